@@ -1,0 +1,100 @@
+#pragma once
+// The streaming marching-voxels engine: slices in, one at a time; indexed polygons out, layer by
+// layer, to a PolygonSink. All memory is the caller's workspace, sized by
+// engine_workspace_bytes(); nothing is allocated after init().
+//
+//   std::vector<std::max_align_t> memory(engine_workspace_bytes(w, h, options) /
+//                                        sizeof(std::max_align_t) + 1);
+//   Engine engine;
+//   check(engine.init(memory.data(), bytes, w, h, threshold, options, &sink));
+//   for (each slice) check(engine.push_slice(slice));
+//   check(engine.finish());
+#include <cstddef>
+#include <cstdint>
+
+#include "mvox/polygon_sink.h"
+#include "mvox/slice.h"
+#include "mvox/status.h"
+
+namespace mvox {
+
+// Workspace pointers must be aligned to this (malloc and std::max_align_t storage are).
+constexpr std::size_t kWorkspaceAlignment = 16;
+
+// How the polygons of each 2x2x2 cube are found. Both give identical output.
+enum class EngineKind : std::uint8_t {
+  fast,     // looks the cube up in a table generated from the literal merge passes (default)
+  literal,  // runs the paper's triangle generation and x, y, z merge passes voxel by voxel
+};
+
+// Which surface the cube configurations get.
+enum class SurfaceRule : std::uint8_t {
+  // The merge rules of the paper applied as stated: closed, hole-free, inner voxels 6-connected
+  // (DESIGN.md section 2). The default.
+  merge_rules,
+  // The paper's Table 1 for five and six inner voxels (C5.1, C5.2, C6.2): the complementary
+  // configuration's surface. Leaves holes where a cube face is ambiguous; for reproducing the
+  // paper only.
+  paper_table1,
+};
+
+struct EngineOptions {
+  EngineKind kind = EngineKind::fast;
+  SurfaceRule rule = SurfaceRule::merge_rules;
+  std::uint32_t vertices_per_batch = 4096;  // >= 1; vertex buffer size in the workspace
+  std::uint32_t polygons_per_batch = 4096;  // >= 1; polygon buffer size in the workspace
+};
+
+// What the engine has seen and produced so far.
+struct EngineCounters {
+  std::uint64_t slices = 0;
+  std::uint64_t inner_voxels = 0;
+  std::uint64_t vertices = 0;
+  std::uint64_t polygons = 0;
+  std::uint64_t polygons_by_size[kMaxPolygonVertices + 1] = {};  // index = vertex count (3..7)
+};
+
+// Bytes of workspace an engine for slices of width x height needs with these options.
+// A pure function: it does not depend on the number of slices. Returns 0 when width or height
+// is 0, too large to address, or the options are invalid.
+std::size_t engine_workspace_bytes(std::uint32_t width, std::uint32_t height,
+                                   const EngineOptions& options);
+
+class Engine {
+ public:
+  Engine() = default;
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  // Prepares the engine over `workspace` (borrowed; must outlive the engine and hold at least
+  // engine_workspace_bytes(width, height, options) bytes aligned to kWorkspaceAlignment).
+  // A voxel is inner when its sample is >= threshold; NaN samples are outer. `sink` is borrowed
+  // and must outlive the engine. May be called again to start a new volume.
+  Status init(void* workspace, std::size_t workspace_bytes, std::uint32_t width,
+              std::uint32_t height, double threshold, const EngineOptions& options,
+              PolygonSink* sink);
+
+  // Classifies the next slice (z = number of slices pushed so far) and emits every vertex and
+  // polygon that this slice completes. `slice.samples` is only read during the call.
+  // Returns sink_refused (and stays failed) when the sink refuses a batch.
+  Status push_slice(const SliceView& slice);
+
+  // Closes the volume: the layer above the last slice (outside voxels are outer) is emitted.
+  Status finish();
+
+  const EngineCounters& counters() const { return counters_; }
+  std::uint32_t width() const { return width_; }
+  std::uint32_t height() const { return height_; }
+
+ private:
+  struct State;  // pointers into the workspace, defined in engine.cpp
+  Status fail(Status status);
+
+  State* state_ = nullptr;
+  Status failure_ = Status::not_initialised;
+  EngineCounters counters_;
+  std::uint32_t width_ = 0;
+  std::uint32_t height_ = 0;
+};
+
+}  // namespace mvox

@@ -1,0 +1,31 @@
+#pragma once
+// The indexed mesh the engine emits: vertices once each, polygons referring to them by index.
+#include <cstdint>
+
+namespace mvox {
+
+// A polygon has 3 to 7 vertices (the loops a 2x2x2 cube can hold; DESIGN.md section 4).
+constexpr int kMaxPolygonVertices = 7;
+
+// Axis of the voxel pair a vertex sits between: x, y or z neighbours.
+enum class Axis : std::uint8_t { x = 0, y = 1, z = 2 };
+
+// A surface vertex at the midpoint of an inner voxel and an outer 6-adjacent voxel.
+// Coordinates are in voxel units: x = column, y = row, z = slice index, so the midpoint of
+// voxels (3,4,5) and (4,4,5) is (3.5, 4, 5). The engine numbers vertices 0, 1, 2, ... in the
+// order they are emitted. `inner_is_lower` tells whether the inner voxel is the one with the
+// smaller coordinate along `axis`; with it a sink can find the outward direction.
+struct Vertex {
+  float x = 0, y = 0, z = 0;
+  Axis axis = Axis::x;
+  bool inner_is_lower = false;
+};
+
+// Vertex indices wound counter-clockwise seen from outside (outward normal by the right-hand
+// rule, from inner to outer). Every index was emitted in a vertex batch before this polygon.
+struct Polygon {
+  std::uint8_t vertex_count = 0;
+  std::uint32_t vertices[kMaxPolygonVertices] = {};
+};
+
+}  // namespace mvox

@@ -1,0 +1,29 @@
+#pragma once
+// The interface every slice producer implements: file readers (src/) and the simulated scanner
+// (sim/). A source hands out slices one at a time, in increasing z, holding only what it needs.
+#include <cstdint>
+
+#include "mvox/slice.h"
+
+namespace mvox {
+
+struct VolumeInfo {
+  std::uint32_t width = 0;   // samples per row (x)
+  std::uint32_t height = 0;  // rows per slice (y)
+  std::uint32_t depth = 0;   // number of slices (z)
+  SampleType type = SampleType::u8;
+  double spacing[3] = {1, 1, 1};  // voxel size along x, y, z (mm or any unit)
+  double origin[3] = {0, 0, 0};   // position of voxel (0,0,0)
+};
+
+class SliceSource {
+ public:
+  virtual ~SliceSource() = default;
+  virtual const VolumeInfo& info() const = 0;
+  // Fills `slice` with the next slice and returns true, or returns false after the last one.
+  // The view stays valid until the next call. Host readers throw on read errors; the core
+  // never calls this (only sim/ and src/ drive sources), so that is safe.
+  virtual bool next_slice(SliceView* slice) = 0;
+};
+
+}  // namespace mvox
