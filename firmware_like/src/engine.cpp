@@ -1,14 +1,464 @@
-// Placeholder until the engine lands; keeps the skeleton building.
+// The streaming engine. For each slice s:
+//   PASS 1  classify slice s into bit rows (classify.h);
+//   PASS 2  find the vertices on the x- and y-edges of slice s and on the z-edges between slices
+//           s-1 and s, number them in that order and send them to the sink (edge_plane.h);
+//   PASS 3  find the polygons of every cube between slices s-1 and s, which that slice
+//           completes, and send them: by table lookup (fast) or from the literal merge passes.
+// Slices -1 and D (one past the last) are all outer, so every surface closes.
 #include "mvox/engine.h"
+
+#include <cstring>
+#include <new>
+
+#include "bit_rows.h"
+#include "case_table.h"
+#include "classify.h"
+#include "edge_plane.h"
+#include "literal_layers.h"
 
 namespace mvox {
 
-std::size_t engine_workspace_bytes(std::uint32_t, std::uint32_t, const EngineOptions&) { return 0; }
-Status Engine::init(void*, std::size_t, std::uint32_t, std::uint32_t, double, const EngineOptions&,
-                    PolygonSink*) {
-  return Status::invalid_argument;
+using detail::EngineState;
+
+namespace {
+
+// PLY and most mesh consumers index vertices with signed 32-bit integers.
+constexpr std::uint64_t kMaxVertices = 0x7FFFFFFF;
+
+// Slices wider or taller than this are refused: plane counters are 32-bit.
+constexpr std::uint64_t kMaxEdgesPerPlane = 0x7FFFFFFF;
+
+constexpr std::size_t align_up(std::size_t bytes) {
+  return (bytes + kWorkspaceAlignment - 1) & ~(kWorkspaceAlignment - 1);
 }
-Status Engine::push_slice(const SliceView&) { return Status::not_initialised; }
-Status Engine::finish() { return Status::not_initialised; }
+
+// Where each buffer lives in the workspace. One function computes it both for
+// engine_workspace_bytes() and for init(), so the two can never disagree.
+struct Layout {
+  std::size_t state = 0;
+  std::size_t inner[2] = {};
+  std::size_t zero_row = 0;
+  std::size_t x_bits[2] = {}, x_prefix[2] = {};
+  std::size_t y_bits[2] = {}, y_prefix[2] = {};
+  std::size_t z_bits = 0, z_prefix = 0;
+  std::size_t vertices = 0;
+  std::size_t polygons = 0;
+  std::size_t literal = 0;
+  std::size_t total = 0;
+};
+
+bool options_valid(const EngineOptions& options) {
+  return (options.kind == EngineKind::fast || options.kind == EngineKind::literal) &&
+         (options.rule == SurfaceRule::merge_rules || options.rule == SurfaceRule::paper_table1) &&
+         options.vertices_per_batch >= 1 && options.polygons_per_batch >= 1;
+}
+
+}  // namespace
+
+struct detail::EngineState {
+  EngineOptions options;
+  Thresholds thresholds;
+  PolygonSink* sink = nullptr;
+  const CaseTable* table = nullptr;
+  std::uint32_t row_words = 0;
+  std::uint64_t* inner[2] = {};  // bit rows of slice s in slot s & 1
+  const std::uint64_t* zero_row = nullptr;
+  EdgePlane x_edges[2];  // x-edges of the slice in each slot
+  EdgePlane y_edges[2];  // y-edges of the slice in each slot (height + 1 rows)
+  EdgePlane z_edges;     // z-edges between the two slots' slices
+  Vertex* vertex_batch = nullptr;
+  std::uint32_t vertex_fill = 0;
+  Polygon* polygon_batch = nullptr;
+  std::uint32_t polygon_fill = 0;
+  LiteralLayers literal;
+
+  const std::uint64_t* row(int slot, std::int64_t y, std::uint32_t height) const {
+    if (y < 0 || y >= static_cast<std::int64_t>(height)) return zero_row;
+    return inner[slot] + static_cast<std::size_t>(y) * row_words;
+  }
+};
+
+namespace {
+
+bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptions& options,
+                    Layout* layout) {
+  if (width == 0 || height == 0 || !options_valid(options)) return false;
+  if (std::uint64_t{width + 2} * (height + 1) > kMaxEdgesPerPlane) return false;
+  const std::size_t words = padded_row_words(width);
+  std::size_t offset = 0;
+  auto take = [&offset](std::size_t bytes) {
+    const std::size_t start = offset;
+    offset += align_up(bytes);
+    return start;
+  };
+  auto words_bytes = [words](std::size_t rows) { return rows * words * sizeof(std::uint64_t); };
+  auto prefix_bytes = [words](std::size_t rows) { return rows * words * sizeof(std::uint32_t); };
+  layout->state = take(sizeof(EngineState));
+  for (int slot = 0; slot < 2; ++slot) {
+    layout->inner[slot] = take(words_bytes(height));
+    layout->x_bits[slot] = take(words_bytes(height));
+    layout->x_prefix[slot] = take(prefix_bytes(height));
+    layout->y_bits[slot] = take(words_bytes(height + 1));
+    layout->y_prefix[slot] = take(prefix_bytes(height + 1));
+  }
+  layout->zero_row = take(words_bytes(1));
+  layout->z_bits = take(words_bytes(height));
+  layout->z_prefix = take(prefix_bytes(height));
+  layout->vertices = take(std::size_t{options.vertices_per_batch} * sizeof(Vertex));
+  layout->polygons = take(std::size_t{options.polygons_per_batch} * sizeof(Polygon));
+  layout->literal =
+      take(options.kind == EngineKind::literal ? LiteralLayers::bytes(width, height) : 0);
+  layout->total = offset;
+  return true;
+}
+
+}  // namespace
+
+std::size_t engine_workspace_bytes(std::uint32_t width, std::uint32_t height,
+                                   const EngineOptions& options) {
+  Layout layout;
+  return compute_layout(width, height, options, &layout) ? layout.total : 0;
+}
+
+Status Engine::fail(Status status) {
+  failure_ = status;
+  return status;
+}
+
+Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t width,
+                    std::uint32_t height, double threshold, const EngineOptions& options,
+                    PolygonSink* sink) {
+  state_ = nullptr;
+  failure_ = Status::not_initialised;
+  counters_ = EngineCounters();
+  Layout layout;
+  if (!workspace || !sink || threshold != threshold ||
+      !compute_layout(width, height, options, &layout))
+    return Status::invalid_argument;
+  if (reinterpret_cast<std::uintptr_t>(workspace) % kWorkspaceAlignment != 0)
+    return Status::workspace_misaligned;
+  if (workspace_bytes < layout.total) return Status::workspace_too_small;
+
+  char* base = static_cast<char*>(workspace);
+  EngineState* state = new (base + layout.state) EngineState();
+  state->options = options;
+  state->thresholds = make_thresholds(threshold);
+  state->sink = sink;
+  state->table = &case_table(options.rule);
+  state->row_words = padded_row_words(width);
+  const std::uint32_t words = state->row_words;
+  for (int slot = 0; slot < 2; ++slot) {
+    state->inner[slot] = reinterpret_cast<std::uint64_t*>(base + layout.inner[slot]);
+    state->x_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.x_bits[slot]),
+                            reinterpret_cast<std::uint32_t*>(base + layout.x_prefix[slot]),
+                            height, words, 0, 0};
+    state->y_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.y_bits[slot]),
+                            reinterpret_cast<std::uint32_t*>(base + layout.y_prefix[slot]),
+                            height + 1, words, 0, 0};
+  }
+  state->z_edges = {reinterpret_cast<std::uint64_t*>(base + layout.z_bits),
+                    reinterpret_cast<std::uint32_t*>(base + layout.z_prefix), height, words, 0, 0};
+  std::uint64_t* zero_row = reinterpret_cast<std::uint64_t*>(base + layout.zero_row);
+  std::memset(zero_row, 0, words * sizeof(std::uint64_t));
+  state->zero_row = zero_row;
+  // Slot 1 stands for slice -1 when slice 0 arrives: all outer.
+  std::memset(state->inner[1], 0, std::size_t{height} * words * sizeof(std::uint64_t));
+  state->vertex_batch = reinterpret_cast<Vertex*>(base + layout.vertices);
+  state->polygon_batch = reinterpret_cast<Polygon*>(base + layout.polygons);
+  if (options.kind == EngineKind::literal) state->literal.init(base + layout.literal, width, height);
+
+  state_ = state;
+  width_ = width;
+  height_ = height;
+  failure_ = Status::ok;
+  return Status::ok;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output batching.
+
+namespace {
+
+class Emitter {
+ public:
+  Emitter(EngineState& state, EngineCounters& counters) : state_(state), counters_(counters) {}
+
+  // Returns false when the sink refused or the index space is exhausted; status() says which.
+  bool vertex(float x, float y, float z, Axis axis, bool inner_is_lower) {
+    if (counters_.vertices >= kMaxVertices) return stop(Status::vertex_index_overflow);
+    Vertex& v = state_.vertex_batch[state_.vertex_fill++];
+    v.x = x;
+    v.y = y;
+    v.z = z;
+    v.axis = axis;
+    v.inner_is_lower = inner_is_lower;
+    ++counters_.vertices;
+    return state_.vertex_fill < state_.options.vertices_per_batch || flush_vertices();
+  }
+
+  Polygon& next_polygon() { return state_.polygon_batch[state_.polygon_fill]; }
+
+  bool commit_polygon() {
+    const Polygon& p = state_.polygon_batch[state_.polygon_fill++];
+    ++counters_.polygons;
+    ++counters_.polygons_by_size[p.vertex_count];
+    return state_.polygon_fill < state_.options.polygons_per_batch || flush_polygons();
+  }
+
+  bool flush_vertices() {
+    if (state_.vertex_fill == 0) return true;
+    const Status s = state_.sink->consume_vertices(state_.vertex_batch, state_.vertex_fill);
+    state_.vertex_fill = 0;
+    return s == Status::ok || stop(Status::sink_refused);
+  }
+
+  bool flush_polygons() {
+    if (state_.polygon_fill == 0) return true;
+    const Status s = state_.sink->consume_polygons(state_.polygon_batch, state_.polygon_fill);
+    state_.polygon_fill = 0;
+    return s == Status::ok || stop(Status::sink_refused);
+  }
+
+  Status status() const { return status_; }
+
+ private:
+  bool stop(Status status) {
+    status_ = status;
+    return false;
+  }
+
+  EngineState& state_;
+  EngineCounters& counters_;
+  Status status_ = Status::ok;
+};
+
+// PASS 2 for one plane: each row's edge bits come from `edge_word(row, w)`; every set bit becomes
+// a vertex placed by `emit(row, j, emitter)`. Fills the plane's bits and prefix counts.
+template <typename EdgeWord, typename EmitVertex>
+bool build_plane(EdgePlane& plane, std::uint32_t first_index, EdgeWord edge_word,
+                 EmitVertex emit, Emitter& emitter) {
+  plane.base = first_index;
+  std::uint32_t count = 0;
+  for (std::uint32_t row = 0; row < plane.rows; ++row) {
+    for (std::uint32_t w = 0; w < plane.row_words; ++w) {
+      const std::uint32_t at = row * plane.row_words + w;
+      std::uint64_t bits = edge_word(row, w);
+      plane.bits[at] = bits;
+      plane.prefix[at] = count;
+      count += static_cast<std::uint32_t>(set_bit_count(bits));
+      for (; bits; bits &= bits - 1)
+        if (!emit(row, w * 64 + static_cast<std::uint32_t>(lowest_set_bit(bits)), emitter))
+          return false;
+    }
+  }
+  plane.count = count;
+  return true;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Per-slice work.
+
+namespace {
+
+// Vertices on the x- and y-edges of slice `z` (in `slot`), then on the z-edges between the slice
+// in the other slot (z - 1) and it. Column j of a padded row is voxel x = j - 1 (bit_rows.h).
+bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t height,
+                   bool with_slice_edges, Emitter& emitter, std::uint64_t first_index) {
+  const std::uint32_t words = st.row_words;
+  const std::uint64_t* rows = st.inner[slot];
+  const std::uint64_t* below = st.inner[slot ^ 1];
+  const float fz = static_cast<float>(z);
+  std::uint32_t next_index = static_cast<std::uint32_t>(first_index);
+
+  if (with_slice_edges) {
+    // x-edge j joins voxels j - 1 and j: bit j of (row XOR row shifted down by one).
+    EdgePlane& xp = st.x_edges[slot];
+    if (!build_plane(
+            xp, next_index,
+            [&](std::uint32_t y, std::uint32_t w) {
+              const std::uint64_t* r = rows + std::size_t{y} * words;
+              return r[w] ^ shifted_down(r, w, words);
+            },
+            [&](std::uint32_t y, std::uint32_t j, Emitter& e) {
+              return e.vertex(static_cast<float>(j) - 0.5f, static_cast<float>(y), fz, Axis::x,
+                              test_bit(rows + std::size_t{y} * words, j));
+            },
+            emitter))
+      return false;
+    next_index += xp.count;
+
+    // y-edge row r joins voxel rows r - 1 and r (r = 0 and r = height meet the outside).
+    EdgePlane& yp = st.y_edges[slot];
+    if (!build_plane(
+            yp, next_index,
+            [&](std::uint32_t r, std::uint32_t w) {
+              return st.row(slot, std::int64_t{r} - 1, height)[w] ^ st.row(slot, r, height)[w];
+            },
+            [&](std::uint32_t r, std::uint32_t j, Emitter& e) {
+              return e.vertex(static_cast<float>(j) - 1.0f, static_cast<float>(r) - 0.5f, fz,
+                              Axis::y, test_bit(st.row(slot, std::int64_t{r} - 1, height), j));
+            },
+            emitter))
+      return false;
+    next_index += yp.count;
+  }
+
+  // z-edges between slice z - 1 (other slot) and slice z.
+  return build_plane(
+      st.z_edges, next_index,
+      [&](std::uint32_t y, std::uint32_t w) {
+        return below[std::size_t{y} * words + w] ^ rows[std::size_t{y} * words + w];
+      },
+      [&](std::uint32_t y, std::uint32_t j, Emitter& e) {
+        return e.vertex(static_cast<float>(j) - 1.0f, static_cast<float>(y), fz - 0.5f, Axis::z,
+                        test_bit(below + std::size_t{y} * words, j));
+      },
+      emitter);
+}
+
+// The global index of the vertex on cube edge `e` (cube.h) of cube (cx, cy) in the layer between
+// slot `lo` and slot `hi`. Cube cx holds voxel columns cx - 1 and cx, that is padded columns cx
+// and cx + 1; cube cy holds rows cy - 1 and cy.
+inline std::uint32_t cube_edge_index(const EngineState& st, int lo, int hi, int e,
+                                     std::uint32_t cx, std::uint32_t cy) {
+  switch (e) {
+    case 0: return st.x_edges[lo].index(cy - 1, cx);
+    case 1: return st.x_edges[lo].index(cy, cx);
+    case 2: return st.x_edges[hi].index(cy - 1, cx);
+    case 3: return st.x_edges[hi].index(cy, cx);
+    case 4: return st.y_edges[lo].index(cy, cx);
+    case 5: return st.y_edges[lo].index(cy, cx + 1);
+    case 6: return st.y_edges[hi].index(cy, cx);
+    case 7: return st.y_edges[hi].index(cy, cx + 1);
+    case 8: return st.z_edges.index(cy - 1, cx);
+    case 9: return st.z_edges.index(cy - 1, cx + 1);
+    case 10: return st.z_edges.index(cy, cx);
+    default: return st.z_edges.index(cy, cx + 1);
+  }
+}
+
+bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uint32_t cy,
+               const CubePolygons& polygons, Emitter& emitter) {
+  int offset = 0;
+  for (int p = 0; p < polygons.polygon_count; ++p) {
+    Polygon& out = emitter.next_polygon();
+    out.vertex_count = polygons.polygon_sizes[p];
+    for (int i = 0; i < out.vertex_count; ++i)
+      out.vertices[i] = cube_edge_index(st, lo, hi, polygons.edges[offset + i], cx, cy);
+    offset += out.vertex_count;
+    if (!emitter.commit_polygon()) return false;
+  }
+  return true;
+}
+
+// PASS 3, fast: visits only cubes whose eight voxels are not all alike (computational trimming
+// after Flying Edges), a word of 64 cubes at a time, and looks each configuration up.
+bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t height,
+                     Emitter& emitter) {
+  const std::uint32_t words = st.row_words;
+  for (std::uint32_t cy = 0; cy <= height; ++cy) {
+    const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);  // corners by=0, bz=0
+    const std::uint64_t* r1 = st.row(lo, cy, height);                     // by=1, bz=0
+    const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);  // by=0, bz=1
+    const std::uint64_t* r3 = st.row(hi, cy, height);                     // by=1, bz=1
+    for (std::uint32_t w = 0; w < words; ++w) {
+      // Bit cx of a word is the corner at bx = 0; of its shifted copy the corner at bx = 1.
+      const std::uint64_t a0 = r0[w], a1 = shifted_down(r0, w, words);
+      const std::uint64_t b0 = r1[w], b1 = shifted_down(r1, w, words);
+      const std::uint64_t c0 = r2[w], c1 = shifted_down(r2, w, words);
+      const std::uint64_t d0 = r3[w], d1 = shifted_down(r3, w, words);
+      const std::uint64_t any = a0 | a1 | b0 | b1 | c0 | c1 | d0 | d1;
+      const std::uint64_t all = a0 & a1 & b0 & b1 & c0 & c1 & d0 & d1;
+      for (std::uint64_t active = any & ~all; active; active &= active - 1) {
+        const int bit = lowest_set_bit(active);
+        const unsigned config = static_cast<unsigned>(
+            (a0 >> bit & 1) | (a1 >> bit & 1) << 1 | (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
+            (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 | (d0 >> bit & 1) << 6 |
+            (d1 >> bit & 1) << 7);
+        if (!emit_cube(st, lo, hi, w * 64 + static_cast<std::uint32_t>(bit), cy,
+                       st.table->cases[config], emitter))
+          return false;
+      }
+    }
+  }
+  return true;
+}
+
+// PASS 3, literal: the merged segments of each completed cube, walked into loops.
+bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t width,
+                        std::uint32_t height, Emitter& emitter) {
+  for (std::uint32_t cy = 0; cy <= height; ++cy) {
+    for (std::uint32_t cx = 0; cx <= width; ++cx) {
+      const CubeSurface& surface = st.literal.lower_cube(cx, cy);
+      if (surface.segment_count == 0) continue;
+      CubePolygons polygons = extract_loops(surface);
+      if (st.options.rule == SurfaceRule::paper_table1) {
+        const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);
+        const std::uint64_t* r1 = st.row(lo, cy, height);
+        const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);
+        const std::uint64_t* r3 = st.row(hi, cy, height);
+        const unsigned config =
+            test_bit(r0, cx) | test_bit(r0, cx + 1) << 1 | test_bit(r1, cx) << 2 |
+            test_bit(r1, cx + 1) << 3 | test_bit(r2, cx) << 4 | test_bit(r2, cx + 1) << 5 |
+            test_bit(r3, cx) << 6 | test_bit(r3, cx + 1) << 7;
+        if (paper_table1_applies(config)) polygons = reversed(merge_passes(~config & 0xFFu));
+      }
+      if (!emit_cube(st, lo, hi, cx, cy, polygons, emitter)) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Status Engine::push_slice(const SliceView& slice) {
+  if (failure_ != Status::ok) return failure_;
+  if (!slice.samples || slice.row_stride_bytes < std::size_t{slice.width} * sample_bytes(slice.type))
+    return Status::invalid_argument;
+  if (slice.width != width_ || slice.height != height_) return Status::slice_size_mismatch;
+  if (counters_.slices >= 0xFFFFFFFFu) return Status::invalid_argument;
+
+  EngineState& st = *state_;
+  const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
+  const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
+  counters_.inner_voxels += classify_slice(slice, st.thresholds, st.inner[hi], st.row_words);
+  if (st.options.kind == EngineKind::literal)
+    st.literal.add_slice(st.inner[lo], st.inner[hi], st.row_words);
+
+  Emitter emitter(st, counters_);
+  const bool ok =
+      emit_vertices(st, hi, z, height_, true, emitter, counters_.vertices) &&
+      emitter.flush_vertices() &&
+      (st.options.kind == EngineKind::fast ? emit_layer_fast(st, lo, hi, height_, emitter)
+                                           : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
+      emitter.flush_polygons();
+  if (!ok) return fail(emitter.status());
+  if (st.options.kind == EngineKind::literal) st.literal.advance();
+  ++counters_.slices;
+  return Status::ok;
+}
+
+Status Engine::finish() {
+  if (failure_ != Status::ok) return failure_;
+  EngineState& st = *state_;
+  if (counters_.slices > 0) {
+    // The layer between the last slice and the all-outer slice beyond it.
+    const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
+    const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
+    std::memset(st.inner[hi], 0, std::size_t{height_} * st.row_words * sizeof(std::uint64_t));
+    Emitter emitter(st, counters_);
+    const bool ok =
+        emit_vertices(st, hi, z, height_, false, emitter, counters_.vertices) &&
+        emitter.flush_vertices() &&
+        (st.options.kind == EngineKind::fast ? emit_layer_fast(st, lo, hi, height_, emitter)
+                                             : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
+        emitter.flush_polygons();
+    if (!ok) return fail(emitter.status());
+  }
+  failure_ = Status::already_finished;
+  return Status::ok;
+}
 
 }  // namespace mvox

@@ -16,3 +16,10 @@ AssertHandler set_assert_handler(AssertHandler handler);
 
 #define MVOX_ASSERT(condition) \
   ((condition) ? static_cast<void>(0) : ::mvox::assert_failed(#condition, __FILE__, __LINE__))
+
+// For invariants checked in hot loops: active in debug builds, compiled out under NDEBUG.
+#ifdef NDEBUG
+#define MVOX_DEBUG_ASSERT(condition) static_cast<void>(0)
+#else
+#define MVOX_DEBUG_ASSERT(condition) MVOX_ASSERT(condition)
+#endif

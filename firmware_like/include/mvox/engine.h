@@ -18,6 +18,10 @@
 
 namespace mvox {
 
+namespace detail {
+struct EngineState;  // pointers into the workspace, defined in engine.cpp
+}
+
 // Workspace pointers must be aligned to this (malloc and std::max_align_t storage are).
 constexpr std::size_t kWorkspaceAlignment = 16;
 
@@ -87,10 +91,9 @@ class Engine {
   std::uint32_t height() const { return height_; }
 
  private:
-  struct State;  // pointers into the workspace, defined in engine.cpp
   Status fail(Status status);
 
-  State* state_ = nullptr;
+  detail::EngineState* state_ = nullptr;
   Status failure_ = Status::not_initialised;
   EngineCounters counters_;
   std::uint32_t width_ = 0;

@@ -1,0 +1,198 @@
+// Exhaustive checks on the smallest volumes: every configuration of one cube and of two
+// face-adjacent cubes, and the case table against the face rule stated in DESIGN.md.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <utility>
+
+#include "case_table.h"
+#include "cube.h"
+#include "mesh_capture.h"
+#include "mesh_compare.h"
+#include "mesh_topology.h"
+
+namespace mvox {
+namespace {
+
+using test::analyse;
+using test::describe;
+using test::extract;
+using test::volume_from_bits;
+
+EngineOptions with(EngineKind kind, SurfaceRule rule = SurfaceRule::merge_rules) {
+  EngineOptions options;
+  options.kind = kind;
+  options.rule = rule;
+  return options;
+}
+
+// Checks everything a merge-rules surface of `volume` must satisfy, for both engines.
+// `simply_connected`: the inner voxels can form no tunnel (true for one cube; two cubes side by
+// side can already hold a ring of voxels around an outer one, a torus).
+void expect_valid_surface(const test::BinaryVolume& volume, const std::string& label,
+                          bool simply_connected) {
+  const test::Mesh fast = extract(volume, 1, with(EngineKind::fast));
+  const test::Mesh literal = extract(volume, 1, with(EngineKind::literal));
+  ASSERT_TRUE(test::meshes_identical(fast, literal)) << label;
+
+  const test::Topology topology = analyse(fast);
+  EXPECT_TRUE(topology.closed_and_consistent()) << label << ": " << describe(topology);
+  EXPECT_EQ(fast.forward_references, 0u) << label;
+  // A closed orientable surface has an even Euler characteristic, at most 2 per component
+  // (2 - 2 * genus); a sphere per component when there can be no tunnel.
+  const std::int64_t spheres = 2 * static_cast<std::int64_t>(topology.components);
+  EXPECT_EQ(topology.euler() % 2, 0) << label << ": " << describe(topology);
+  if (simply_connected)
+    EXPECT_EQ(topology.euler(), spheres) << label << ": " << describe(topology);
+  else
+    EXPECT_LE(topology.euler(), spheres) << label << ": " << describe(topology);
+  if (!fast.polygons.empty()) EXPECT_GT(topology.signed_volume, 0) << label;
+
+  const std::vector<Vertex> expected = test::expected_vertices(volume);
+  const std::vector<Vertex> actual = test::sorted_positions(fast);
+  ASSERT_EQ(actual.size(), expected.size()) << label;
+  for (std::size_t i = 0; i < actual.size(); ++i)
+    ASSERT_TRUE(test::same_position(actual[i], expected[i])) << label << " vertex " << i;
+}
+
+TEST(CubeCases, EverySingleCubeConfigurationIsClosedAndConsistent) {
+  // Voxel i of the 2x2x2 volume (x fastest) is cube corner i, so `config` is the cube's case.
+  for (unsigned config = 0; config < 256; ++config)
+    expect_valid_surface(volume_from_bits(2, 2, 2, config), "config " + std::to_string(config),
+                         true);
+}
+
+TEST(CubeCases, EveryPairOfFaceAdjacentCubesIsClosedAndConsistent) {
+  const std::uint32_t shapes[3][3] = {{3, 2, 2}, {2, 3, 2}, {2, 2, 3}};
+  for (const auto& shape : shapes)
+    for (std::uint64_t bits = 0; bits < 4096; ++bits)
+      expect_valid_surface(volume_from_bits(shape[0], shape[1], shape[2], bits),
+                           std::to_string(shape[0]) + "x" + std::to_string(shape[1]) + "x" +
+                               std::to_string(shape[2]) + " bits " + std::to_string(bits),
+                           false);
+}
+
+// The face rule (DESIGN.md, "What the merge rules produce"): on each cube face the surface
+// depends only on the face's four voxels. One inner corner: a segment cutting it off; two
+// adjacent: one straight segment; two diagonal: two segments, one cutting off each inner corner;
+// three: a segment cutting off the outer corner. This oracle is written from that statement
+// alone, not from the merge code, and checked against the generated table.
+using Segment = std::pair<int, int>;  // unordered pair of cube-edge ids, smaller first
+
+std::set<Segment> face_rule_segments(unsigned config, int face) {
+  int corner[4], edge_after[4];  // edge_after[i] joins corner i and corner i + 1 (cyclic)
+  for (int i = 0; i < 4; ++i) corner[i] = cube::face_corner(face, i);
+  for (int i = 0; i < 4; ++i)
+    for (int e = 0; e < cube::kEdges; ++e) {
+      const int lo = cube::edge_low_corner(e), hi = cube::edge_high_corner(e);
+      const int a = corner[i], b = corner[(i + 1) % 4];
+      if ((lo == a && hi == b) || (lo == b && hi == a)) edge_after[i] = e;
+    }
+  auto inner = [&](int i) { return (config >> corner[(i + 4) % 4] & 1) != 0; };
+  auto cut_corner = [&](int i) {  // the segment between the two edges meeting at corner i
+    const int e1 = edge_after[(i + 3) % 4], e2 = edge_after[i];
+    return Segment(std::min(e1, e2), std::max(e1, e2));
+  };
+  int count = 0;
+  for (int i = 0; i < 4; ++i) count += inner(i);
+  std::set<Segment> segments;
+  if (count == 1 || count == 3) {
+    for (int i = 0; i < 4; ++i)
+      if (inner(i) == (count == 1)) segments.insert(cut_corner(i));
+  } else if (count == 2) {
+    if (inner(0) == inner(2)) {  // diagonal: cut off each inner corner separately
+      for (int i = 0; i < 4; ++i)
+        if (inner(i)) segments.insert(cut_corner(i));
+    } else {  // adjacent: one segment between the two edges that change sign
+      std::vector<int> crossing;
+      for (int i = 0; i < 4; ++i)
+        if (inner(i) != inner(i + 1)) crossing.push_back(edge_after[i]);
+      segments.insert({std::min(crossing[0], crossing[1]), std::max(crossing[0], crossing[1])});
+    }
+  }
+  return segments;
+}
+
+TEST(CaseTable, MatchesTheFaceRuleOnEveryFaceOfEveryConfiguration) {
+  const CaseTable& table = case_table(SurfaceRule::merge_rules);
+  for (unsigned config = 0; config < 256; ++config) {
+    std::set<Segment> by_face[cube::kFaces];
+    const CubePolygons& polygons = table.cases[config];
+    int offset = 0;
+    for (int p = 0; p < polygons.polygon_count; ++p) {
+      const int size = polygons.polygon_sizes[p];
+      for (int i = 0; i < size; ++i) {
+        const int a = polygons.edges[offset + i], b = polygons.edges[offset + (i + 1) % size];
+        const int face = cube::shared_face(a, b);
+        ASSERT_GE(face, 0) << "config " << config << ": segment off the cube faces";
+        by_face[face].insert({std::min(a, b), std::max(a, b)});
+      }
+      offset += size;
+    }
+    for (int face = 0; face < cube::kFaces; ++face)
+      EXPECT_EQ(by_face[face], face_rule_segments(config, face))
+          << "config " << config << " face " << face;
+  }
+}
+
+TEST(CaseTable, PolygonsHaveThreeToSevenVerticesAndUseEachEdgeOnce) {
+  const CaseTable& table = case_table(SurfaceRule::merge_rules);
+  int sizes[8] = {};
+  for (unsigned config = 0; config < 256; ++config) {
+    const CubePolygons& polygons = table.cases[config];
+    std::set<int> edges(polygons.edges, polygons.edges + polygons.edge_count);
+    EXPECT_EQ(edges.size(), polygons.edge_count) << "config " << config;
+    // Exactly the edges between an inner and an outer corner carry a vertex.
+    int crossing = 0;
+    for (int e = 0; e < cube::kEdges; ++e)
+      crossing += (config >> cube::edge_low_corner(e) & 1) != (config >> cube::edge_high_corner(e) & 1);
+    EXPECT_EQ(polygons.edge_count, crossing) << "config " << config;
+    for (int p = 0; p < polygons.polygon_count; ++p) ++sizes[polygons.polygon_sizes[p]];
+  }
+  for (int size = 3; size <= 7; ++size) EXPECT_GT(sizes[size], 0) << "no polygon of size " << size;
+}
+
+TEST(PaperTable1, DiffersFromTheMergeRulesInExactly44ConfigurationsWithFiveOrSixInnerVoxels) {
+  const CaseTable& merge = case_table(SurfaceRule::merge_rules);
+  const CaseTable& paper = case_table(SurfaceRule::paper_table1);
+  int differing = 0;
+  for (unsigned config = 0; config < 256; ++config) {
+    const CubePolygons &a = merge.cases[config], &b = paper.cases[config];
+    const bool same = a.polygon_count == b.polygon_count && a.edge_count == b.edge_count &&
+                      std::equal(a.polygon_sizes, a.polygon_sizes + a.polygon_count, b.polygon_sizes) &&
+                      std::equal(a.edges, a.edges + a.edge_count, b.edges);
+    if (same) continue;
+    ++differing;
+    const int n = cube::inner_count(config);
+    EXPECT_TRUE(n == 5 || n == 6) << "config " << config << " has " << n << " inner voxels";
+    bool ambiguous = false;
+    for (int face = 0; face < cube::kFaces; ++face) ambiguous |= cube::face_is_ambiguous(config, face);
+    EXPECT_TRUE(ambiguous) << "config " << config;
+  }
+  EXPECT_EQ(differing, 44);
+}
+
+// Each of those 44 cubes, alone in a 2x2x2 volume, meets its neighbouring (outside) cube across
+// an ambiguous face. The neighbour follows the merge rules and keeps the two inner voxels apart;
+// the paper's complementary surface joins them: the two faces disagree and a hole opens.
+TEST(PaperTable1, OpensHolesWhereTheMergeRulesGiveAClosedSurface) {
+  int configurations_with_holes = 0;
+  for (unsigned config = 0; config < 256; ++config) {
+    if (!paper_table1_applies(config)) continue;
+    const test::BinaryVolume volume = volume_from_bits(2, 2, 2, config);
+    const test::Mesh paper_fast = extract(volume, 1, with(EngineKind::fast, SurfaceRule::paper_table1));
+    const test::Mesh paper_literal =
+        extract(volume, 1, with(EngineKind::literal, SurfaceRule::paper_table1));
+    ASSERT_TRUE(test::meshes_identical(paper_fast, paper_literal)) << "config " << config;
+    const test::Topology merge = analyse(extract(volume, 1));
+    const test::Topology paper = analyse(paper_fast);
+    EXPECT_EQ(merge.open_edges, 0u) << "config " << config;
+    EXPECT_GT(paper.open_edges, 0u) << "config " << config << ": " << describe(paper);
+    configurations_with_holes += paper.open_edges > 0;
+  }
+  EXPECT_EQ(configurations_with_holes, 44);
+}
+
+}  // namespace
+}  // namespace mvox
