@@ -1,0 +1,292 @@
+// The engine's contract: workspace bound, statuses, sample types and thresholds, batching.
+#include "mvox/engine.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "mesh_capture.h"
+#include "mesh_compare.h"
+#include "mesh_topology.h"
+
+namespace mvox {
+namespace {
+
+using test::BinaryVolume;
+using test::extract;
+using test::Mesh;
+using test::Workspace;
+
+// A reproducible volume of 8-bit samples 0..255 (raw generator bits; no distributions, whose
+// output differs between standard libraries).
+test::Volume<std::uint8_t> noise_volume(std::uint32_t w, std::uint32_t h, std::uint32_t d,
+                                        std::uint32_t seed) {
+  test::Volume<std::uint8_t> volume(w, h, d);
+  std::mt19937 generator(seed);
+  for (auto& sample : volume.samples) sample = static_cast<std::uint8_t>(generator() >> 24);
+  return volume;
+}
+
+SliceView slice_of(const BinaryVolume& volume, std::uint32_t z) {
+  SliceView slice;
+  slice.samples = volume.samples.data() + std::size_t{z} * volume.width * volume.height;
+  slice.width = volume.width;
+  slice.height = volume.height;
+  slice.row_stride_bytes = volume.width;
+  return slice;
+}
+
+class CountingSink : public PolygonSink {
+ public:
+  Status consume_vertices(const Vertex*, std::size_t count) override {
+    vertices += count;
+    ++batches;
+    return batches == refuse_at_batch ? Status::sink_refused : Status::ok;
+  }
+  Status consume_polygons(const Polygon*, std::size_t count) override {
+    polygons += count;
+    ++batches;
+    return batches == refuse_at_batch ? Status::sink_refused : Status::ok;
+  }
+  std::size_t vertices = 0, polygons = 0, batches = 0, refuse_at_batch = 0;
+};
+
+TEST(EngineWorkspace, EverySizeBelowTheBoundIsRefusedAndTheBoundItselfWorks) {
+  const std::uint32_t sizes[][2] = {{1, 1}, {3, 2}, {7, 5}, {62, 3}, {63, 2}, {64, 1}, {130, 4}};
+  for (EngineKind kind : {EngineKind::fast, EngineKind::literal}) {
+    EngineOptions options;
+    options.kind = kind;
+    options.vertices_per_batch = 7;
+    options.polygons_per_batch = 5;
+    for (const auto& size : sizes) {
+      const std::size_t bound = engine_workspace_bytes(size[0], size[1], options);
+      ASSERT_GT(bound, 0u);
+      Workspace workspace(bound);
+      CountingSink sink;
+      Engine engine;
+      for (std::size_t bytes = 0; bytes < bound; ++bytes)
+        ASSERT_EQ(engine.init(workspace.data(), bytes, size[0], size[1], 1, options, &sink),
+                  Status::workspace_too_small)
+            << size[0] << "x" << size[1] << " with " << bytes << " of " << bound << " bytes";
+      ASSERT_EQ(engine.init(workspace.data(), bound, size[0], size[1], 1, options, &sink), Status::ok);
+      // The bound is enough for a real run, not just for init(): a full slice then finish.
+      std::vector<std::uint8_t> full(std::size_t{size[0]} * size[1], 1);
+      SliceView slice{full.data(), size[0], size[1], size[0], SampleType::u8};
+      EXPECT_EQ(engine.push_slice(slice), Status::ok);
+      EXPECT_EQ(engine.finish(), Status::ok);
+      EXPECT_EQ(sink.polygons, engine.counters().polygons);
+      EXPECT_GT(sink.polygons, 0u);
+    }
+  }
+}
+
+TEST(EngineWorkspace, BoundGrowsWithTheSliceAndIsAPureFunction) {
+  const EngineOptions options;
+  const std::size_t small = engine_workspace_bytes(256, 256, options);
+  EXPECT_EQ(small, engine_workspace_bytes(256, 256, options));
+  EXPECT_LT(small, engine_workspace_bytes(512, 256, options));
+  EXPECT_LT(small, engine_workspace_bytes(256, 512, options));
+  // About 1.3 bytes per pixel plus the batch buffers: a 2048x2048 micro-CT slice needs < 8 MiB.
+  EXPECT_LT(engine_workspace_bytes(2048, 2048, options), std::size_t{8} << 20);
+  EngineOptions literal = options;
+  literal.kind = EngineKind::literal;
+  EXPECT_GT(engine_workspace_bytes(256, 256, literal), small);
+}
+
+TEST(EngineWorkspace, InvalidArgumentsAreRefused) {
+  EngineOptions options;
+  EXPECT_EQ(engine_workspace_bytes(0, 5, options), 0u);
+  EXPECT_EQ(engine_workspace_bytes(5, 0, options), 0u);
+  EXPECT_EQ(engine_workspace_bytes(100000, 100000, options), 0u);  // plane counters would overflow
+  Workspace workspace(engine_workspace_bytes(4, 4, options) + 64);
+  CountingSink sink;
+  Engine engine;
+  EXPECT_EQ(engine.init(nullptr, 1 << 20, 4, 4, 1, options, &sink), Status::invalid_argument);
+  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), 4, 4, 1, options, nullptr),
+            Status::invalid_argument);
+  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), 4, 4, std::nan(""), options, &sink),
+            Status::invalid_argument);
+  char* misaligned = static_cast<char*>(workspace.data()) + 8;
+  EXPECT_EQ(engine.init(misaligned, workspace.bytes() - 8, 4, 4, 1, options, &sink),
+            Status::workspace_misaligned);
+  options.polygons_per_batch = 0;
+  EXPECT_EQ(engine_workspace_bytes(4, 4, options), 0u);
+  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), 4, 4, 1, options, &sink),
+            Status::invalid_argument);
+}
+
+TEST(EngineLifecycle, CallsOutOfOrderAndWrongSlicesAreRefusedWithAStatus) {
+  const BinaryVolume volume = test::volume_from_bits(3, 2, 2, 0b101101011011);
+  const EngineOptions options;
+  Workspace workspace(engine_workspace_bytes(3, 2, options));
+  CountingSink sink;
+  Engine engine;
+  EXPECT_EQ(engine.push_slice(slice_of(volume, 0)), Status::not_initialised);
+  EXPECT_EQ(engine.finish(), Status::not_initialised);
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 3, 2, 1, options, &sink), Status::ok);
+
+  SliceView wrong = slice_of(volume, 0);
+  wrong.width = 2;
+  wrong.row_stride_bytes = 3;
+  EXPECT_EQ(engine.push_slice(wrong), Status::slice_size_mismatch);
+  SliceView short_stride = slice_of(volume, 0);
+  short_stride.row_stride_bytes = 2;
+  EXPECT_EQ(engine.push_slice(short_stride), Status::invalid_argument);
+  SliceView null_samples = slice_of(volume, 0);
+  null_samples.samples = nullptr;
+  EXPECT_EQ(engine.push_slice(null_samples), Status::invalid_argument);
+  EXPECT_EQ(engine.counters().slices, 0u);  // refused slices leave the engine as it was
+
+  EXPECT_EQ(engine.push_slice(slice_of(volume, 0)), Status::ok);
+  EXPECT_EQ(engine.push_slice(slice_of(volume, 1)), Status::ok);
+  EXPECT_EQ(engine.finish(), Status::ok);
+  EXPECT_EQ(engine.push_slice(slice_of(volume, 0)), Status::already_finished);
+  EXPECT_EQ(engine.finish(), Status::already_finished);
+  // The refused calls changed nothing: the output equals a clean run's.
+  EXPECT_EQ(sink.polygons, extract(volume, 1).polygons.size());
+
+  // init() starts a new volume on the same workspace.
+  CountingSink second;
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 3, 2, 1, options, &second), Status::ok);
+  EXPECT_EQ(engine.push_slice(slice_of(volume, 0)), Status::ok);
+  EXPECT_EQ(engine.push_slice(slice_of(volume, 1)), Status::ok);
+  EXPECT_EQ(engine.finish(), Status::ok);
+  EXPECT_EQ(second.polygons, sink.polygons);
+  EXPECT_EQ(second.vertices, sink.vertices);
+}
+
+TEST(EngineLifecycle, ASinkThatRefusesStopsTheEngineAndReceivesNothingMore) {
+  const auto volume = noise_volume(20, 17, 9, 7);
+  EngineOptions options;
+  options.vertices_per_batch = 16;
+  options.polygons_per_batch = 16;
+  for (std::size_t refuse_at : {1, 2, 5, 40}) {
+    Workspace workspace(engine_workspace_bytes(20, 17, options));
+    CountingSink sink;
+    sink.refuse_at_batch = refuse_at;
+    Engine engine;
+    ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 20, 17, 128, options, &sink), Status::ok);
+    Status last = Status::ok;
+    for (std::uint32_t z = 0; z < 9 && last == Status::ok; ++z) {
+      SliceView slice{volume.samples.data() + z * 20 * 17, 20, 17, 20, SampleType::u8};
+      last = engine.push_slice(slice);
+    }
+    if (last == Status::ok) last = engine.finish();
+    EXPECT_EQ(last, Status::sink_refused) << "refusing batch " << refuse_at;
+    EXPECT_EQ(sink.batches, refuse_at) << "batches arrived after the refusal";
+    SliceView slice{volume.samples.data(), 20, 17, 20, SampleType::u8};
+    EXPECT_EQ(engine.push_slice(slice), Status::sink_refused);
+    EXPECT_EQ(engine.finish(), Status::sink_refused);
+    EXPECT_EQ(sink.batches, refuse_at);
+  }
+}
+
+TEST(EngineSamples, AllSampleTypesGiveTheSameSurfaceForTheSameClassification) {
+  const auto bytes = noise_volume(13, 11, 7, 3);
+  const Mesh reference = extract(bytes, 100);
+  test::Volume<std::uint16_t> wide(13, 11, 7);
+  test::Volume<std::int16_t> signed_samples(13, 11, 7);
+  test::Volume<float> real(13, 11, 7);
+  for (std::size_t i = 0; i < bytes.samples.size(); ++i) {
+    wide.samples[i] = static_cast<std::uint16_t>(bytes.samples[i] * 257);  // 0..65535
+    signed_samples.samples[i] = static_cast<std::int16_t>((bytes.samples[i] - 128) * 256);
+    real.samples[i] = static_cast<float>(bytes.samples[i]) / 255.0f;
+  }
+  EXPECT_TRUE(test::meshes_identical(reference, extract(wide, 100 * 257)));
+  EXPECT_TRUE(test::meshes_identical(reference, extract(signed_samples, (100 - 128) * 256)));
+  EXPECT_TRUE(test::meshes_identical(reference, extract(real, 100 / 255.0f)));
+  EXPECT_GT(reference.polygons.size(), 100u);
+}
+
+TEST(EngineSamples, AVoxelIsInnerExactlyWhenItsSampleIsAtLeastTheThreshold) {
+  auto count_inner = [](auto volume, double threshold) {
+    EngineCounters counters;
+    extract(volume, threshold, {}, &counters);
+    return counters.inner_voxels;
+  };
+  test::Volume<std::uint8_t> bytes(3, 1, 1);
+  bytes.samples = {99, 100, 101};
+  EXPECT_EQ(count_inner(bytes, 100), 2u);    // equal counts as inner
+  EXPECT_EQ(count_inner(bytes, 100.5), 1u);  // fractional thresholds round up for integers
+  EXPECT_EQ(count_inner(bytes, 99.0001), 2u);
+  EXPECT_EQ(count_inner(bytes, -5), 3u);     // below the type's range: everything inner
+  EXPECT_EQ(count_inner(bytes, 300), 0u);    // above: nothing
+  test::Volume<std::int16_t> signed_samples(3, 1, 1);
+  signed_samples.samples = {-1025, -1024, 32767};
+  EXPECT_EQ(count_inner(signed_samples, -1024), 2u);
+  test::Volume<float> real(4, 1, 1);
+  real.samples = {0.1f, std::nextafter(0.1f, 0.0f), std::numeric_limits<float>::quiet_NaN(), 1e30f};
+  // 0.1f is slightly above 0.1: inner at 0.1, outer at a threshold just above it.
+  EXPECT_EQ(count_inner(real, 0.1), 2u);
+  EXPECT_EQ(count_inner(real, static_cast<double>(0.1f) + 1e-12), 1u);
+  EXPECT_EQ(count_inner(real, -1e300), 3u);  // NaN is never inner
+}
+
+TEST(EngineOutput, BatchSizesAndRowStridesDoNotChangeTheOutput) {
+  const auto volume = noise_volume(70, 9, 8, 11);  // wider than one 64-bit word
+  const Mesh reference = extract(volume, 128);
+  EngineOptions tiny;
+  tiny.vertices_per_batch = 1;
+  tiny.polygons_per_batch = 1;
+  EXPECT_TRUE(test::meshes_identical(reference, extract(volume, 128, tiny)));
+  tiny.vertices_per_batch = 3;
+  tiny.polygons_per_batch = 64;
+  EXPECT_TRUE(test::meshes_identical(reference, extract(volume, 128, tiny)));
+
+  // The same slices inside wider rows (a region of a larger image).
+  const std::uint32_t stride = 83;
+  std::vector<std::uint8_t> padded(std::size_t{stride} * 9 * 8, 255);
+  for (std::uint32_t z = 0; z < 8; ++z)
+    for (std::uint32_t y = 0; y < 9; ++y)
+      std::memcpy(&padded[(std::size_t{z} * 9 + y) * stride], &volume.samples[(z * 9 + y) * 70], 70);
+  test::MeshCapture capture;
+  const EngineOptions options;
+  Workspace workspace(engine_workspace_bytes(70, 9, options));
+  Engine engine;
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 70, 9, 128, options, &capture), Status::ok);
+  for (std::uint32_t z = 0; z < 8; ++z)
+    ASSERT_EQ(engine.push_slice({&padded[std::size_t{z} * 9 * stride], 70, 9, stride, SampleType::u8}),
+              Status::ok);
+  ASSERT_EQ(engine.finish(), Status::ok);
+  EXPECT_TRUE(test::meshes_identical(reference, capture.mesh));
+}
+
+TEST(EngineOutput, CountersAgreeWithTheEmittedMesh) {
+  const auto volume = noise_volume(31, 29, 17, 5);
+  EngineCounters counters;
+  const Mesh mesh = extract(volume, 140, {}, &counters);
+  std::uint64_t inner = 0;
+  for (std::uint8_t sample : volume.samples) inner += sample >= 140;
+  EXPECT_EQ(counters.inner_voxels, inner);
+  EXPECT_EQ(counters.slices, 17u);
+  EXPECT_EQ(counters.vertices, mesh.vertices.size());
+  EXPECT_EQ(counters.polygons, mesh.polygons.size());
+  std::uint64_t by_size[8] = {};
+  for (const auto& polygon : mesh.polygons) ++by_size[polygon.size()];
+  for (int size = 0; size < 8; ++size) EXPECT_EQ(counters.polygons_by_size[size], by_size[size]);
+  EXPECT_EQ(mesh.forward_references, 0u);
+}
+
+TEST(EngineOutput, VerticesCarryTheirAxisAndTheSideOfTheInnerVoxel) {
+  BinaryVolume volume(7, 5, 6);  // odd, asymmetric: an axis swap cannot go unnoticed
+  volume.at(3, 1, 4) = 1;
+  const Mesh mesh = extract(volume, 1);
+  ASSERT_EQ(mesh.vertices.size(), 6u);
+  for (const Vertex& v : mesh.vertices) {
+    const float offset[3] = {v.x - 3, v.y - 1, v.z - 4};
+    const int axis = static_cast<int>(v.axis);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_FLOAT_EQ(std::fabs(offset[a]), a == axis ? 0.5f : 0.0f) << "axis " << axis;
+    EXPECT_EQ(v.inner_is_lower, offset[axis] > 0);
+  }
+  ASSERT_EQ(mesh.polygons.size(), 8u);  // the voxel's eight octant triangles, nothing merged
+  EXPECT_TRUE(test::analyse(mesh).closed_and_consistent());
+  // An octahedron with half-diagonals 0.5: volume 4/3 * 0.5^3.
+  EXPECT_NEAR(test::analyse(mesh).signed_volume, 1.0 / 6.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace mvox
