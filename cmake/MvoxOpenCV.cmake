@@ -1,11 +1,11 @@
-# Imported targets opencv::core, opencv::imgproc, opencv::imgcodecs.
+# Imported targets opencv::core, opencv::imgproc, opencv::imgcodecs, visible in every directory.
 # Debian ships OpenCVConfig.cmake only with the all-modules package libopencv-dev, which pulls in
 # VTK, Qt and the rest; we install just the modules we use and find them directly.
 find_package(OpenCV QUIET COMPONENTS core imgproc imgcodecs)
 if(OpenCV_FOUND)
   foreach(module core imgproc imgcodecs)
     if(NOT TARGET opencv::${module})
-      add_library(opencv::${module} INTERFACE IMPORTED)
+      add_library(opencv::${module} INTERFACE IMPORTED GLOBAL)
       target_link_libraries(opencv::${module} INTERFACE opencv_${module})
     endif()
   endforeach()
@@ -16,7 +16,7 @@ find_path(MVOX_OPENCV_INCLUDE_DIR opencv2/core.hpp PATH_SUFFIXES opencv4 REQUIRE
 foreach(module core imgproc imgcodecs)
   find_library(MVOX_OPENCV_${module}_LIBRARY opencv_${module} REQUIRED)
   if(NOT TARGET opencv::${module})
-    add_library(opencv::${module} UNKNOWN IMPORTED)
+    add_library(opencv::${module} UNKNOWN IMPORTED GLOBAL)
     set_target_properties(opencv::${module} PROPERTIES
       IMPORTED_LOCATION "${MVOX_OPENCV_${module}_LIBRARY}"
       INTERFACE_INCLUDE_DIRECTORIES "${MVOX_OPENCV_INCLUDE_DIR}")

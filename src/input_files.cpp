@@ -1,0 +1,115 @@
+#include "input_files.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <system_error>
+
+#include "error.h"
+#include "natural_sort.h"
+
+namespace fs = std::filesystem;
+
+namespace mvox {
+namespace {
+
+constexpr const char* kImageExtensions[] = {"png", "tif", "tiff", "jpg", "jpeg",
+                                            "bmp", "pgm", "pnm",  "ppm"};
+constexpr const char* kImageExtensionList = "png, tif, tiff, jpg, jpeg, bmp, pgm, pnm, ppm";
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+bool is_glob_pattern(const std::string& text) {
+  return text.find_first_of("*?[") != std::string::npos;
+}
+
+bool is_hidden(const fs::path& path) {
+  const std::string name = path.filename().string();
+  return !name.empty() && name[0] == '.';
+}
+
+// Appends the slice files of `directory` to `files`.
+void add_directory(const std::string& directory, InputKind kind, std::vector<std::string>& files) {
+  std::size_t visible_files = 0;
+  std::size_t slice_files = 0;
+  std::error_code error;
+  // Explicit increment with an error code: the range-for form would throw
+  // std::filesystem::filesystem_error mid-listing instead of an Error naming the directory.
+  for (fs::directory_iterator entry(directory, error), end; !error && entry != end;
+       entry.increment(error)) {
+    // is_regular_file follows symbolic links, so a link to a slice counts as that slice.
+    std::error_code type_error;
+    if (is_hidden(entry->path()) || !entry->is_regular_file(type_error)) continue;
+    ++visible_files;
+    if (kind == InputKind::image_stack && !has_slice_image_extension(entry->path().string())) {
+      continue;
+    }
+    ++slice_files;
+    files.push_back(entry->path().string());
+  }
+  if (error) throw Error(directory, "cannot list directory: " + error.message());
+  if (visible_files == 0)
+    throw Error(directory, "directory is empty (no regular, non-hidden files)");
+  if (slice_files == 0) {
+    throw Error(directory, std::string("directory has no slice images (") + kImageExtensionList +
+                               "); for headerless files use --raw");
+  }
+}
+
+// Appends the regular files matching `pattern` to `files`.
+void add_glob(const std::string& pattern, std::vector<std::string>& files) {
+  glob_t matches{};
+  const int result = glob(pattern.c_str(), 0, nullptr, &matches);
+  std::size_t added = 0;
+  if (result == 0) {
+    for (std::size_t i = 0; i < matches.gl_pathc; ++i) {
+      std::error_code error;
+      if (!fs::is_regular_file(matches.gl_pathv[i], error)) continue;
+      files.emplace_back(matches.gl_pathv[i]);
+      ++added;
+    }
+  }
+  globfree(&matches);
+  if (result == GLOB_NOSPACE) throw Error(pattern, "out of memory while expanding the pattern");
+  if (result == GLOB_ABORTED) throw Error(pattern, "cannot read a directory of the pattern");
+  if (added == 0) throw Error(pattern, "no file matches this pattern");
+}
+
+}  // namespace
+
+bool has_slice_image_extension(const std::string& path) {
+  const std::string extension = lower(fs::path(path).extension().string());
+  if (extension.size() < 2) return false;  // no extension, or just "."
+  const std::string bare = extension.substr(1);
+  return std::any_of(std::begin(kImageExtensions), std::end(kImageExtensions),
+                     [&](const char* known) { return bare == known; });
+}
+
+std::vector<std::string> list_input_files(const std::vector<std::string>& inputs, InputKind kind) {
+  if (inputs.empty()) throw Error("INPUT", "no input files or directories given");
+  std::vector<std::string> files;
+  for (const std::string& input : inputs) {
+    std::error_code error;
+    const fs::file_status status = fs::status(input, error);
+    if (error && status.type() != fs::file_type::not_found) throw Error(input, error.message());
+    if (fs::is_directory(status)) {
+      add_directory(input, kind, files);
+    } else if (fs::exists(status)) {
+      files.push_back(input);
+    } else if (is_glob_pattern(input)) {
+      add_glob(input, files);
+    } else {
+      throw Error(input, "no such file or directory");
+    }
+  }
+  natural_sort(files);
+  return files;
+}
+
+}  // namespace mvox

@@ -1,0 +1,56 @@
+#include "raw_slices_source.h"
+
+#include <filesystem>
+#include <limits>
+#include <system_error>
+#include <utility>
+
+#include "error.h"
+#include "raw_file.h"
+
+namespace mvox {
+
+RawSlicesSource::RawSlicesSource(std::vector<std::string> files, const RawFormat& format)
+    : files_(std::move(files)), format_(format) {
+  if (format_.depth != 0) {
+    throw Error("--raw", raw_format_text(format_) +
+                             " describes one volume file; one file per slice needs WxH:TYPE");
+  }
+  if (files_.empty()) throw Error("INPUT", "no raw slice files");
+  if (files_.size() > std::numeric_limits<std::uint32_t>::max()) {
+    throw Error("INPUT", "more than 2^32-1 slice files");
+  }
+  const std::string what = "one " + raw_format_text(format_) + " slice";
+  for (const std::string& path : files_) {
+    std::error_code error;
+    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    if (error) throw Error(path, "cannot get file size: " + error.message());
+    if (size != format_.slice_bytes()) {
+      throw Error(path, raw_size_problem(size, format_.slice_bytes(), what));
+    }
+  }
+  info_.width = format_.width;
+  info_.height = format_.height;
+  info_.depth = static_cast<std::uint32_t>(files_.size());
+  info_.type = format_.type;
+  buffer_.resize(format_.slice_bytes());
+}
+
+bool RawSlicesSource::next_slice(SliceView* slice) {
+  if (next_index_ >= files_.size()) return false;
+  const RawFile file(files_[next_index_]);
+  // Checked again at read time: the file may have changed since the constructor looked.
+  file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
+  file.read_at(0, buffer_.data(), buffer_.size());
+  swap_to_native(buffer_.data(), buffer_.size() / format_.bytes_per_sample,
+                 format_.bytes_per_sample, format_.byte_order);
+  slice->samples = buffer_.data();
+  slice->width = info_.width;
+  slice->height = info_.height;
+  slice->row_stride_bytes = static_cast<std::size_t>(format_.width) * format_.bytes_per_sample;
+  slice->type = info_.type;
+  ++next_index_;
+  return true;
+}
+
+}  // namespace mvox

@@ -1,0 +1,36 @@
+#include "raw_volume_source.h"
+
+#include "error.h"
+
+namespace mvox {
+
+RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format)
+    : file_(path), format_(format) {
+  if (format_.depth == 0) {
+    throw Error("--raw", raw_format_text(format_) +
+                             " describes one file per slice; one volume file needs WxHxD:TYPE");
+  }
+  file_.expect_size(std::uint64_t{format_.depth} * format_.slice_bytes(),
+                    "a " + raw_format_text(format_) + " volume");
+  info_.width = format_.width;
+  info_.height = format_.height;
+  info_.depth = format_.depth;
+  info_.type = format_.type;
+  buffer_.resize(format_.slice_bytes());
+}
+
+bool RawVolumeSource::next_slice(SliceView* slice) {
+  if (next_index_ >= format_.depth) return false;
+  file_.read_at(std::uint64_t{next_index_} * buffer_.size(), buffer_.data(), buffer_.size());
+  swap_to_native(buffer_.data(), buffer_.size() / format_.bytes_per_sample,
+                 format_.bytes_per_sample, format_.byte_order);
+  slice->samples = buffer_.data();
+  slice->width = info_.width;
+  slice->height = info_.height;
+  slice->row_stride_bytes = static_cast<std::size_t>(format_.width) * format_.bytes_per_sample;
+  slice->type = info_.type;
+  ++next_index_;
+  return true;
+}
+
+}  // namespace mvox

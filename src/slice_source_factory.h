@@ -1,0 +1,22 @@
+#pragma once
+// Picks and opens the slice reader for the command line's INPUT arguments and --raw option.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mvox/slice_source.h"
+#include "raw_format.h"
+
+namespace mvox {
+
+// - raw with depth (WxHxD:TYPE): RawVolumeSource; `inputs` must name exactly one file (a glob
+//   matching one file is fine, a directory is not).
+// - raw without depth (WxH:TYPE): RawSlicesSource over list_input_files(inputs, raw_files),
+//   so a directory contributes all its regular, non-hidden files.
+// - no raw: ImageStackSource over list_input_files(inputs, image_stack).
+// Throws mvox::Error from the file listing and the readers' constructors.
+std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& inputs,
+                                               const std::optional<RawFormat>& raw);
+
+}  // namespace mvox
