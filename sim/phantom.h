@@ -1,0 +1,49 @@
+#pragma once
+// What a simulated volume is: a density defined at every voxel centre of a grid, evaluated on
+// demand so that a scanner can produce any slice on its own without ever holding the volume.
+#include <cstdint>
+#include <vector>
+
+namespace mvox::sim {
+
+// The voxel lattice a phantom is sampled on.
+struct Grid {
+  std::uint32_t width = 0;   // voxels along x (columns)
+  std::uint32_t height = 0;  // voxels along y (rows)
+  std::uint32_t depth = 0;   // voxels along z (slices)
+};
+
+// A point in voxel units: the centre of voxel (x, y, z) is the point (x, y, z).
+struct Point3 {
+  double x = 0;
+  double y = 0;
+  double z = 0;
+};
+
+class Phantom {
+ public:
+  virtual ~Phantom() = default;
+  virtual Grid grid() const = 0;
+  // Density at the centre of voxel (x, y, z); requires x < width, y < height, z < depth.
+  // Typically 0 outside the object and about 1 inside. Deterministic: the same voxel always
+  // gives the same value, whatever was evaluated before, so slices can be made in any order.
+  virtual float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const = 0;
+  // The factory name of the phantom family ("sphere", "shepp-logan", ...); static storage.
+  virtual const char* name() const = 0;
+};
+
+// The centre of the grid in voxel units, ((width - 1) / 2, (height - 1) / 2, (depth - 1) / 2):
+// a shape placed there gives a voxel pattern that is mirror-symmetric on every axis.
+Point3 grid_centre(const Grid& grid);
+
+// The smallest of width, height and depth.
+std::uint32_t min_dimension(const Grid& grid);
+
+// Throws std::invalid_argument naming `phantom_name` when a dimension of `grid` is 0.
+void check_grid(const Grid& grid, const char* phantom_name);
+
+// Every density of `phantom`, x fastest, then y, then z: voxel (x, y, z) is at index
+// x + width * (y + height * z). Holds the whole volume, so it is meant for tests and small grids.
+std::vector<float> sample_volume(const Phantom& phantom);
+
+}  // namespace mvox::sim
