@@ -6,6 +6,7 @@
 
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
+#include "workspace_buffer.h"
 
 namespace mvox::test {
 
@@ -40,17 +41,7 @@ struct Volume {
 };
 using BinaryVolume = Volume<std::uint8_t>;
 
-// Workspace for one engine, aligned as the engine requires.
-class Workspace {
- public:
-  explicit Workspace(std::size_t bytes) : storage_(bytes / 16 + 1) {}
-  void* data() { return storage_.data(); }
-  std::size_t bytes() const { return storage_.size() * 16; }
-
- private:
-  struct alignas(16) Block { unsigned char bytes[16]; };
-  std::vector<Block> storage_;
-};
+using Workspace = WorkspaceBuffer;
 
 // Extracts the surface of `volume` (inner: sample >= threshold). Fails the current test on any
 // engine error.
