@@ -1,0 +1,57 @@
+#pragma once
+// Buffered appends to a POSIX file descriptor, shared by OutputFile and ScratchFile.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+
+namespace mvox {
+
+// Collects small writes in one large buffer and hands them to write(2) in big blocks.
+// Reports failures as errno values instead of throwing, so that each owner can name its own
+// file in the Error it throws. Does not own the descriptor.
+class BufferedWriter {
+ public:
+  // Large enough that write(2) calls cost nothing next to formatting; allocated once.
+  static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
+
+  BufferedWriter();
+
+  void set_fd(int fd) { fd_ = fd; }
+  int fd() const { return fd_; }
+
+  // Appends `size` bytes. Returns 0, or the errno of a failed write(2).
+  int write(const void* data, std::size_t size) {
+    // Inline fast path: the hot loops of the mesh writers append a few bytes at a time.
+    if (size <= kBufferBytes - used_) {
+      std::memcpy(buffer_.get() + used_, data, size);
+      used_ += size;
+      total_ += size;
+      return 0;
+    }
+    return write_slow(data, size);
+  }
+
+  // Hands the buffered bytes to the descriptor. Returns 0 or an errno value.
+  int flush();
+
+  // Bytes appended so far, buffered or not.
+  std::uint64_t bytes_written() const { return total_; }
+
+  // The buffer's storage, kBufferBytes long, for reuse as scratch space right after flush().
+  char* storage() { return buffer_.get(); }
+
+ private:
+  int write_slow(const void* data, std::size_t size);
+
+  std::unique_ptr<char[]> buffer_;
+  std::size_t used_ = 0;
+  std::uint64_t total_ = 0;
+  int fd_ = -1;
+};
+
+// write(2) until every byte is out, retrying after signals and partial writes.
+// Returns 0 or an errno value.
+int write_fully(int fd, const void* data, std::size_t size);
+
+}  // namespace mvox

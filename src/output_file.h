@@ -1,0 +1,75 @@
+#pragma once
+// How every mvox writer creates a file: all or nothing, never a half-written target.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "buffered_writer.h"
+
+namespace mvox {
+
+// A file being written. For a regular target the bytes go to a temporary file in the target's
+// directory (".NAME.XXXXXX"), and commit() moves it onto the target in one rename, so readers
+// see either the previous file or the complete new one. If commit() is never reached (an error,
+// an exception, an early return) the destructor deletes the temporary and the target is left as
+// it was.
+//
+// Targets that are not regular files are written directly, because renaming onto them would
+// replace them: "-" means standard output, and an existing device or pipe (/dev/null, /dev/full,
+// a FIFO) is opened for writing. Such outputs cannot be overwritten later (can_overwrite() is
+// false) and are not atomic.
+//
+// Every failure (cannot create, write, sync, close or rename) throws mvox::Error whose subject is
+// the target path ("standard output" for "-"), e.g. "out/mesh.ply: write failed: No space left on
+// device". Writes are buffered (BufferedWriter::kBufferBytes), so a full disk may only be
+// reported by a later write() or by commit(). After an error the file is dead: commit() throws.
+class OutputFile {
+ public:
+  // Creates the temporary (or opens the direct target). Throws mvox::Error.
+  explicit OutputFile(const std::string& path);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  // Appends `size` bytes. Throws mvox::Error.
+  void write(const void* data, std::size_t size) {
+    if (const int error = writer_.write(data, size)) fail_write(error);
+  }
+
+  // Replaces bytes [offset, offset + size) already written, e.g. a header whose counts are
+  // known only at the end. Requires can_overwrite() and offset + size <= bytes_written().
+  void overwrite(std::uint64_t offset, const void* data, std::size_t size);
+
+  // True when the bytes go to a temporary regular file, which can be overwritten and is renamed
+  // by commit(); false for standard output, devices and pipes.
+  bool can_overwrite() const { return !temp_path_.empty(); }
+
+  // Flushes, syncs, closes and renames the temporary onto the target (for direct targets:
+  // flushes and closes). Throws mvox::Error; on failure the target is untouched.
+  void commit();
+
+  std::uint64_t bytes_written() const { return writer_.bytes_written(); }
+
+  // The target as given ("-" for standard output).
+  const std::string& path() const { return path_; }
+  // The name used in messages: the path, or "standard output".
+  const std::string& subject() const { return subject_; }
+  // Where companion temporary files belong: the target's directory when writing through a
+  // temporary (same file system, so no surprise on a full disk), else the system's temporary
+  // directory.
+  std::string scratch_directory() const;
+
+ private:
+  [[noreturn]] void fail_write(int error);
+  void close_fd();
+
+  std::string path_;
+  std::string subject_;
+  std::string temp_path_;  // empty for direct targets
+  BufferedWriter writer_;
+  bool owns_fd_ = false;  // false for standard output
+  bool failed_ = false;
+  bool committed_ = false;
+};
+
+}  // namespace mvox
