@@ -1,0 +1,163 @@
+// Extraction throughput of the fast and literal engines on the paper's three datasets:
+// in memory (slices already decoded; the engine and a sink that only counts) and end to end
+// (reading the files, extracting, writing binary PLY). Runs are interleaved between the engines
+// and the median of each is reported, so a noisy shared machine biases both alike.
+//
+//   mvox_bench_extract [--datasets DIR] [--runs N] [--scratch DIR]
+//
+// Prints a Markdown table on standard output.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mesh_job.h"
+#include "paper_datasets.h"
+#include "pipeline.h"
+#include "ply_writer.h"
+#include "workspace_buffer.h"
+
+namespace mvox::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class CountingSink : public PolygonSink {
+ public:
+  Status consume_vertices(const Vertex*, std::size_t count) override {
+    vertices += count;
+    return Status::ok;
+  }
+  Status consume_polygons(const Polygon*, std::size_t count) override {
+    polygons += count;
+    return Status::ok;
+  }
+  std::uint64_t vertices = 0, polygons = 0;
+};
+
+// A whole volume decoded into memory, so the in-memory runs time the engine alone.
+struct LoadedVolume {
+  VolumeInfo info;
+  std::vector<unsigned char> bytes;  // slices one after another, rows packed
+  std::size_t slice_bytes = 0;
+};
+
+LoadedVolume load(const PaperDataset& dataset) {
+  auto source = open_dataset(dataset);
+  LoadedVolume volume;
+  volume.info = source->info();
+  const std::size_t row_bytes = volume.info.width * sample_bytes(volume.info.type);
+  volume.slice_bytes = row_bytes * volume.info.height;
+  SliceView slice;
+  while (source->next_slice(&slice))
+    for (std::uint32_t y = 0; y < slice.height; ++y) {
+      const auto* row = static_cast<const unsigned char*>(slice.samples) + y * slice.row_stride_bytes;
+      volume.bytes.insert(volume.bytes.end(), row, row + row_bytes);
+    }
+  volume.info.depth = static_cast<std::uint32_t>(volume.bytes.size() / volume.slice_bytes);
+  return volume;
+}
+
+double extract_in_memory(const LoadedVolume& volume, double threshold, EngineKind kind,
+                         EngineCounters* counters) {
+  EngineOptions options;
+  options.kind = kind;
+  const VolumeInfo& info = volume.info;
+  WorkspaceBuffer workspace(engine_workspace_bytes(info.width, info.height, options));
+  CountingSink sink;
+  Engine engine;
+  const auto start = Clock::now();
+  if (engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, options,
+                  &sink) != Status::ok)
+    return -1;
+  for (std::uint32_t z = 0; z < info.depth; ++z) {
+    const SliceView slice{volume.bytes.data() + z * volume.slice_bytes, info.width, info.height,
+                          info.width * sample_bytes(info.type), info.type};
+    if (engine.push_slice(slice) != Status::ok) return -1;
+  }
+  if (engine.finish() != Status::ok) return -1;
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  *counters = engine.counters();
+  return seconds;
+}
+
+double extract_end_to_end(const PaperDataset& dataset, EngineKind kind, const std::string& output) {
+  const auto start = Clock::now();
+  auto source = open_dataset(dataset);
+  EngineOptions options;
+  options.kind = kind;
+  PlyWriter writer(output);
+  const PipelineResult result = run_pipeline(*source, dataset.threshold, options, writer);
+  if (result.status != Status::ok) return -1;
+  writer.finish();
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+}  // namespace
+}  // namespace mvox::bench
+
+int main(int argc, char** argv) {
+  using namespace mvox;
+  using namespace mvox::bench;
+  std::string root = MVOX_SHARED_DATASETS;
+  std::string scratch = std::filesystem::temp_directory_path().string();
+  int runs = 5;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--datasets")) root = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--runs")) runs = std::max(1, std::atoi(argv[i + 1]));
+    else if (!std::strcmp(argv[i], "--scratch")) scratch = argv[i + 1];
+    else {
+      std::fprintf(stderr, "usage: %s [--datasets DIR] [--runs N] [--scratch DIR]\n", argv[0]);
+      return 2;
+    }
+  }
+  const std::vector<PaperDataset> datasets = paper_datasets(root);
+  if (datasets.empty()) {
+    std::fprintf(stderr, "mvox_bench_extract: no dataset found under %s\n", root.c_str());
+    return 1;
+  }
+  const std::string output = scratch + "/mvox_bench_extract.ply";
+
+  std::printf("| dataset | voxels | threshold | vertices | polygons | fast, in memory | literal, in memory "
+              "| fast/literal | fast, end to end | literal, end to end |\n"
+              "|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const PaperDataset& dataset : datasets) {
+    const LoadedVolume volume = load(dataset);
+    const double mvoxels = double(volume.info.width) * volume.info.height * volume.info.depth / 1e6;
+    std::vector<double> fast_memory, literal_memory, fast_files, literal_files;
+    EngineCounters fast_counters, literal_counters;
+    for (int run = 0; run < runs; ++run) {  // interleaved, so drift hits both engines alike
+      fast_memory.push_back(extract_in_memory(volume, dataset.threshold, EngineKind::fast, &fast_counters));
+      literal_memory.push_back(
+          extract_in_memory(volume, dataset.threshold, EngineKind::literal, &literal_counters));
+      fast_files.push_back(extract_end_to_end(dataset, EngineKind::fast, output));
+      literal_files.push_back(extract_end_to_end(dataset, EngineKind::literal, output));
+    }
+    if (fast_counters.polygons != literal_counters.polygons ||
+        fast_counters.vertices != literal_counters.vertices) {
+      std::fprintf(stderr, "%s: engines disagree\n", dataset.name.c_str());
+      return 1;
+    }
+    const double fm = median(fast_memory), lm = median(literal_memory);
+    const double ff = median(fast_files), lf = median(literal_files);
+    std::printf("| %s | %ux%ux%u %s | %g | %s | %s | %.0f Mvoxel/s (%.1f ms) | %.0f Mvoxel/s (%.0f ms) "
+                "| %.0fx | %.0f Mvoxel/s (%.1f ms) | %.0f Mvoxel/s (%.0f ms) |\n",
+                dataset.name.c_str(), volume.info.width, volume.info.height, volume.info.depth,
+                sample_type_name(volume.info.type), dataset.threshold,
+                grouped(fast_counters.vertices).c_str(), grouped(fast_counters.polygons).c_str(),
+                mvoxels / fm, fm * 1e3, mvoxels / lm, lm * 1e3, lm / fm, mvoxels / ff, ff * 1e3,
+                mvoxels / lf, lf * 1e3);
+    std::fflush(stdout);
+  }
+  std::filesystem::remove(output);
+  return 0;
+}

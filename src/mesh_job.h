@@ -1,0 +1,33 @@
+#pragma once
+// The job behind `mvox extract` and `mvox demo`: stream a slice source through the engine into a
+// PLY file, with progress, a summary line and an optional --stats report.
+#include <string>
+
+#include "mvox/engine.h"
+#include "mvox/slice_source.h"
+#include "ply_writer.h"
+#include "stats_json.h"
+
+namespace mvox {
+
+struct MeshJob {
+  std::string input_label;  // for messages and the report: the input as the user named it
+  double threshold = 0;     // in sample units
+  EngineOptions engine;
+  std::string output;       // PLY path, "-" for standard output
+  PlyWriterOptions ply;
+  std::string stats_path;   // empty: no report
+  bool quiet = false;       // no progress line, no summary
+};
+
+// Runs the job; throws mvox::Error naming the file or stage at fault. On any failure no output
+// file is left behind (or a previous one is left untouched).
+RunReport run_mesh_job(SliceSource& source, const MeshJob& job);
+
+// "123,456": large counts are easier to read with separators.
+std::string grouped(std::uint64_t value);
+
+const char* engine_kind_name(EngineKind kind);
+const char* surface_rule_name(SurfaceRule rule);
+
+}  // namespace mvox

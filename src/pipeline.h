@@ -1,0 +1,31 @@
+#pragma once
+// One extraction, source to sink, with the time spent in each phase: what `mvox extract`,
+// `mvox demo` and the benchmarks all run.
+#include <cstdint>
+
+#include "mvox/engine.h"
+#include "mvox/slice_source.h"
+#include "stream.h"
+
+namespace mvox {
+
+struct PhaseTimes {
+  double read_s = 0;     // inside the slice source: file reading, decoding, byte swapping
+  double extract_s = 0;  // inside the engine, minus the time its sink took
+  double write_s = 0;    // inside the sink (mesh writer, renderer...)
+  double total_s = 0;    // wall clock from the first slice to the engine's finish()
+};
+
+struct PipelineResult {
+  Status status = Status::ok;  // the engine's; sink_refused means the sink holds the reason
+  EngineCounters counters;
+  PhaseTimes times;
+  std::size_t workspace_bytes = 0;
+};
+
+// Streams every slice of `source` through a new engine into `sink` and finishes the volume.
+// Throws mvox::Error for options the engine refuses (for example a slice too large).
+PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
+                            PolygonSink& sink, const SliceProgress& progress = {});
+
+}  // namespace mvox

@@ -1,0 +1,29 @@
+#pragma once
+// The --stats report: what was extracted, how much, how fast, in how much memory, as JSON.
+#include <cstdint>
+#include <string>
+
+#include "mvox/slice_source.h"
+#include "pipeline.h"
+
+namespace mvox {
+
+struct RunReport {
+  std::string input;   // as the user gave it
+  std::string output;  // mesh file, or empty
+  VolumeInfo volume;
+  double threshold = 0;
+  std::string method;   // "voxels"
+  std::string engine;   // "fast" or "literal"
+  std::string surface;  // "merge-rules" or "paper-table1"
+  PipelineResult result;
+  std::uint64_t start_memory_bytes = 0;  // resident when the job started (libraries loaded)
+  std::uint64_t peak_memory_bytes = 0;   // peak resident over the process's life
+};
+
+std::string run_report_json(const RunReport& report);
+
+// `text` as a JSON string literal, quotes included.
+std::string json_string(const std::string& text);
+
+}  // namespace mvox

@@ -1,0 +1,155 @@
+// The mvox command line end to end: a phantom written as an image stack, extracted from files,
+// read back from PLY by the strict reader; errors as one line, a non-zero exit and no file.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "command_runner.h"
+#include "mesh_topology.h"
+#include "phantom_factory.h"
+#include "ply_reader.h"
+#include "simulated_scanner.h"
+
+namespace mvox {
+namespace {
+
+using test::run_mvox;
+using test::ScratchDirectory;
+
+test::Mesh to_test_mesh(const PlyMesh& ply) {
+  test::Mesh mesh;
+  for (const auto& p : ply.positions) {
+    Vertex v;
+    v.x = p[0];
+    v.y = p[1];
+    v.z = p[2];
+    mesh.vertices.push_back(v);
+  }
+  for (std::size_t f = 0; f < ply.face_count(); ++f)
+    mesh.polygons.emplace_back(ply.face_indices.begin() + ply.face_offsets[f],
+                               ply.face_indices.begin() + ply.face_offsets[f + 1]);
+  return mesh;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// One line of output, starting "mvox: error: ", mentioning `subject`.
+void expect_one_line_error(const test::CommandResult& result, const std::string& subject) {
+  EXPECT_NE(result.exit_code, 0) << result.output;
+  EXPECT_EQ(result.output.rfind("mvox: error: ", 0), 0u) << result.output;
+  EXPECT_NE(result.output.find(subject), std::string::npos) << result.output;
+  const std::size_t first_newline = result.output.find('\n');
+  EXPECT_TRUE(first_newline == result.output.size() - 1 ||
+              result.output.compare(first_newline + 1, 3, "Run") == 0)
+      << "more than one line of error: " << result.output;
+}
+
+TEST(Cli, PhantomStackExtractedFromFilesIsClosedWithTheRightTopology) {
+  ScratchDirectory dir;
+  auto written = run_mvox("phantom torus -o stack --size 40x36x22 -q", dir.path());
+  ASSERT_EQ(written.exit_code, 0) << written.output;
+  auto extracted = run_mvox("extract stack -t 128 -o torus.ply --stats torus.json -q", dir.path());
+  ASSERT_EQ(extracted.exit_code, 0) << extracted.output;
+  EXPECT_EQ(extracted.output, "");  // --quiet
+
+  const test::Mesh mesh = to_test_mesh(read_ply(dir / "torus.ply"));
+  const test::Topology t = test::analyse(mesh);
+  EXPECT_TRUE(t.closed_and_consistent()) << test::describe(t);
+  EXPECT_EQ(t.euler(), 0) << test::describe(t);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_GT(t.signed_volume, 0);
+
+  // The same phantom streamed in memory: the file path lost and reordered nothing.
+  const auto torus = sim::make_phantom("torus", {40, 36, 22}, 1);
+  sim::SimulatedScanner scanner(*torus);
+  const test::Mesh direct = test::extract(scanner, 128);
+  ASSERT_EQ(mesh.vertices.size(), direct.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    ASSERT_TRUE(test::same_position(mesh.vertices[i], direct.vertices[i])) << "vertex " << i;
+  EXPECT_EQ(mesh.polygons, direct.polygons);
+
+  const std::string json = read_text(dir / "torus.json");
+  EXPECT_NE(json.find("\"dimensions\": [40, 36, 22]"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"vertices\": " + std::to_string(mesh.vertices.size())), std::string::npos);
+  EXPECT_NE(json.find("\"polygons\": " + std::to_string(mesh.polygons.size())), std::string::npos);
+  for (const char* field : {"\"threshold\": 128", "\"inner_voxels\"", "\"polygons_by_size\"",
+                            "\"time_seconds\"", "\"peak_memory_bytes\"", "\"engine\": \"fast\""})
+    EXPECT_NE(json.find(field), std::string::npos) << field;
+}
+
+TEST(Cli, LiteralEngineAsciiAndSpacingOptions) {
+  ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom blobs -o stack --size 30x26x20 --bits 16 -q", dir.path()).exit_code, 0);
+  const std::string threshold =
+      std::to_string(sim::sample_threshold(0.5, sim::default_scan_options(SampleType::u16)));
+  ASSERT_EQ(run_mvox("extract stack -t " + threshold + " -o fast.ply -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_mvox("extract stack -t " + threshold + " -o literal.ply --engine literal -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_mvox("extract stack -t " + threshold + " -o ascii.ply --ascii --spacing 1,1,2.5 -q",
+                     dir.path()).exit_code, 0);
+  const PlyMesh fast = read_ply(dir / "fast.ply");
+  const PlyMesh literal = read_ply(dir / "literal.ply");
+  const PlyMesh ascii = read_ply(dir / "ascii.ply");
+  EXPECT_GT(fast.face_count(), 100u);
+  EXPECT_EQ(fast.positions, literal.positions);
+  EXPECT_EQ(fast.face_indices, literal.face_indices);
+  EXPECT_EQ(read_text(dir / "ascii.ply").rfind("ply\nformat ascii 1.0\n", 0), 0u);
+  ASSERT_EQ(ascii.positions.size(), fast.positions.size());
+  for (std::size_t i = 0; i < fast.positions.size(); ++i) {
+    EXPECT_EQ(ascii.positions[i][0], fast.positions[i][0]);
+    EXPECT_EQ(ascii.positions[i][2], fast.positions[i][2] * 2.5f);
+  }
+  EXPECT_EQ(ascii.face_indices, fast.face_indices);
+}
+
+TEST(Cli, DemoNeedsNoFilesAndWritesDemoPly) {
+  ScratchDirectory dir;
+  const auto result = run_mvox("demo --size 48", dir.path());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("shepp-logan"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("demo.ply"), std::string::npos) << result.output;
+  const test::Topology t = test::analyse(to_test_mesh(read_ply(dir / "demo.ply")));
+  EXPECT_TRUE(t.closed_and_consistent()) << test::describe(t);
+  EXPECT_GE(t.components, 3u);
+}
+
+TEST(Cli, BadInputGivesOneLineNamingTheFileANonZeroExitAndNoOutput) {
+  ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom sphere -o stack --size 12x10x8 -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_mvox("phantom sphere -o wide --size 14x10x2 -q", dir.path()).exit_code, 0);
+  std::filesystem::copy_file(dir / "wide/sphere_0000.png", dir / "stack/sphere_0008.png");
+  expect_one_line_error(run_mvox("extract stack -t 128 -o out.ply", dir.path()), "sphere_0008.png");
+  expect_one_line_error(run_mvox("extract missing_dir -t 128 -o out.ply", dir.path()), "missing_dir");
+  expect_one_line_error(run_mvox("extract wide -t 128 -o no/such/dir/out.ply", dir.path()),
+                        "no/such/dir/out.ply");
+  expect_one_line_error(run_mvox("extract wide -t 128 -o out.ply --raw 3x3:u24", dir.path()), "--raw");
+  expect_one_line_error(run_mvox("extract wide -t 128 -o out.ply --stats no/dir/s.json", dir.path()),
+                        "no/dir/s.json");
+  std::ofstream(dir / "short.raw") << "12345";
+  expect_one_line_error(run_mvox("extract short.raw --raw 4x4x4:u8 -t 1 -o out.ply", dir.path()),
+                        "short.raw");
+  const auto usage = run_mvox("extract wide -o out.ply", dir.path());
+  EXPECT_EQ(usage.exit_code, 2) << usage.output;
+  EXPECT_NE(usage.output.find("--threshold"), std::string::npos);
+  EXPECT_EQ(run_mvox("extract wide -t 1 -o out.ply --engine quick", dir.path()).exit_code, 2);
+  EXPECT_EQ(dir.listing(), "short.raw stack wide ");  // no output, no temporary left behind
+}
+
+TEST(Cli, HelpListsTheCommandsAndOptions) {
+  ScratchDirectory dir;
+  const auto top = run_mvox("--help", dir.path());
+  EXPECT_EQ(top.exit_code, 0);
+  for (const char* word : {"extract", "demo", "phantom"}) EXPECT_NE(top.output.find(word), std::string::npos);
+  const auto extract = run_mvox("extract --help", dir.path());
+  EXPECT_EQ(extract.exit_code, 0);
+  for (const char* option : {"--threshold", "--raw", "--engine", "--surface", "--stats", "--ascii", "--spacing"})
+    EXPECT_NE(extract.output.find(option), std::string::npos) << option;
+}
+
+}  // namespace
+}  // namespace mvox

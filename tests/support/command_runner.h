@@ -1,0 +1,30 @@
+#pragma once
+// Test support: run the mvox binary as a user would, and a scratch directory per test.
+#include <filesystem>
+#include <string>
+
+namespace mvox::test {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  // standard output and standard error together
+};
+
+// Runs `mvox ARGUMENTS` through the shell (so quoting works as in a terminal) from `directory`.
+CommandResult run_mvox(const std::string& arguments, const std::filesystem::path& directory);
+
+// A fresh empty directory, removed with everything in it when the object goes away.
+class ScratchDirectory {
+ public:
+  ScratchDirectory();
+  ~ScratchDirectory();
+  const std::filesystem::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  // Names of the entries, sorted: to check nothing unexpected (a temporary) was left behind.
+  std::string listing() const;
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace mvox::test
