@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "error.h"
 #include "mesh_job.h"
 #include "paper_datasets.h"
 #include "pipeline.h"
@@ -54,7 +55,8 @@ LoadedVolume load(const PaperDataset& dataset) {
   SliceView slice;
   while (source->next_slice(&slice))
     for (std::uint32_t y = 0; y < slice.height; ++y) {
-      const auto* row = static_cast<const unsigned char*>(slice.samples) + y * slice.row_stride_bytes;
+      const auto* row =
+          static_cast<const unsigned char*>(slice.samples) + y * slice.row_stride_bytes;
       volume.bytes.insert(volume.bytes.end(), row, row + row_bytes);
     }
   volume.info.depth = static_cast<std::uint32_t>(volume.bytes.size() / volume.slice_bytes);
@@ -112,52 +114,65 @@ int main(int argc, char** argv) {
   std::string scratch = std::filesystem::temp_directory_path().string();
   int runs = 5;
   for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--datasets")) root = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--runs")) runs = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--scratch")) scratch = argv[i + 1];
+    if (!std::strcmp(argv[i], "--datasets"))
+      root = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--runs"))
+      runs = std::max(1, std::atoi(argv[i + 1]));
+    else if (!std::strcmp(argv[i], "--scratch"))
+      scratch = argv[i + 1];
     else {
       std::fprintf(stderr, "usage: %s [--datasets DIR] [--runs N] [--scratch DIR]\n", argv[0]);
       return 2;
     }
   }
-  const std::vector<PaperDataset> datasets = paper_datasets(root);
-  if (datasets.empty()) {
-    std::fprintf(stderr, "mvox_bench_extract: no dataset found under %s\n", root.c_str());
-    return 1;
-  }
-  const std::string output = scratch + "/mvox_bench_extract.ply";
-
-  std::printf("| dataset | voxels | threshold | vertices | polygons | fast, in memory | literal, in memory "
-              "| fast/literal | fast, end to end | literal, end to end |\n"
-              "|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const PaperDataset& dataset : datasets) {
-    const LoadedVolume volume = load(dataset);
-    const double mvoxels = double(volume.info.width) * volume.info.height * volume.info.depth / 1e6;
-    std::vector<double> fast_memory, literal_memory, fast_files, literal_files;
-    EngineCounters fast_counters, literal_counters;
-    for (int run = 0; run < runs; ++run) {  // interleaved, so drift hits both engines alike
-      fast_memory.push_back(extract_in_memory(volume, dataset.threshold, EngineKind::fast, &fast_counters));
-      literal_memory.push_back(
-          extract_in_memory(volume, dataset.threshold, EngineKind::literal, &literal_counters));
-      fast_files.push_back(extract_end_to_end(dataset, EngineKind::fast, output));
-      literal_files.push_back(extract_end_to_end(dataset, EngineKind::literal, output));
-    }
-    if (fast_counters.polygons != literal_counters.polygons ||
-        fast_counters.vertices != literal_counters.vertices) {
-      std::fprintf(stderr, "%s: engines disagree\n", dataset.name.c_str());
+  try {
+    const std::vector<PaperDataset> datasets = paper_datasets(root);
+    if (datasets.empty()) {
+      std::fprintf(stderr, "mvox_bench_extract: no dataset found under %s\n", root.c_str());
       return 1;
     }
-    const double fm = median(fast_memory), lm = median(literal_memory);
-    const double ff = median(fast_files), lf = median(literal_files);
-    std::printf("| %s | %ux%ux%u %s | %g | %s | %s | %.0f Mvoxel/s (%.1f ms) | %.0f Mvoxel/s (%.0f ms) "
-                "| %.0fx | %.0f Mvoxel/s (%.1f ms) | %.0f Mvoxel/s (%.0f ms) |\n",
-                dataset.name.c_str(), volume.info.width, volume.info.height, volume.info.depth,
-                sample_type_name(volume.info.type), dataset.threshold,
-                grouped(fast_counters.vertices).c_str(), grouped(fast_counters.polygons).c_str(),
-                mvoxels / fm, fm * 1e3, mvoxels / lm, lm * 1e3, lm / fm, mvoxels / ff, ff * 1e3,
-                mvoxels / lf, lf * 1e3);
-    std::fflush(stdout);
+    const std::string output = scratch + "/mvox_bench_extract.ply";
+
+    std::printf(
+        "| dataset | voxels | threshold | vertices | polygons | fast, in memory | literal, in "
+        "memory "
+        "| fast/literal | fast, end to end | literal, end to end |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n");
+    for (const PaperDataset& dataset : datasets) {
+      const LoadedVolume volume = load(dataset);
+      const double mvoxels =
+          double(volume.info.width) * volume.info.height * volume.info.depth / 1e6;
+      std::vector<double> fast_memory, literal_memory, fast_files, literal_files;
+      EngineCounters fast_counters, literal_counters;
+      for (int run = 0; run < runs; ++run) {  // interleaved, so drift hits both engines alike
+        fast_memory.push_back(
+            extract_in_memory(volume, dataset.threshold, EngineKind::fast, &fast_counters));
+        literal_memory.push_back(
+            extract_in_memory(volume, dataset.threshold, EngineKind::literal, &literal_counters));
+        fast_files.push_back(extract_end_to_end(dataset, EngineKind::fast, output));
+        literal_files.push_back(extract_end_to_end(dataset, EngineKind::literal, output));
+      }
+      if (fast_counters.polygons != literal_counters.polygons ||
+          fast_counters.vertices != literal_counters.vertices) {
+        std::fprintf(stderr, "%s: engines disagree\n", dataset.name.c_str());
+        return 1;
+      }
+      const double fm = median(fast_memory), lm = median(literal_memory);
+      const double ff = median(fast_files), lf = median(literal_files);
+      std::printf(
+          "| %s | %ux%ux%u %s | %g | %s | %s | %.0f Mvoxel/s (%.1f ms) | %.0f Mvoxel/s (%.0f ms) "
+          "| %.0fx | %.0f Mvoxel/s (%.1f ms) | %.0f Mvoxel/s (%.0f ms) |\n",
+          dataset.name.c_str(), volume.info.width, volume.info.height, volume.info.depth,
+          sample_type_name(volume.info.type), dataset.threshold,
+          grouped(fast_counters.vertices).c_str(), grouped(fast_counters.polygons).c_str(),
+          mvoxels / fm, fm * 1e3, mvoxels / lm, lm * 1e3, lm / fm, mvoxels / ff, ff * 1e3,
+          mvoxels / lf, lf * 1e3);
+      std::fflush(stdout);
+    }
+    std::filesystem::remove(output);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mvox_bench_extract: %s\n", e.what());
+    return 1;
   }
-  std::filesystem::remove(output);
   return 0;
 }

@@ -12,14 +12,13 @@ std::vector<PaperDataset> paper_datasets(const std::string& root) {
        "skin/soft tissue against air (the issue's threshold)"},
       {"engine", {root + "/engine/engine_256x256x128_uint8.raw"}, "256x256x128:u8", 100,
        "between the air peak (0-15) and the metal block (128-159)"},
-      {"MRbrain", {root + "/mrbrain8bit"}, "", 50,
+      {"MRbrain", {root + "/mrbrain8bit/mrbrain-8bit*.png"}, "", 50,
        "between the background (0-15) and head tissue (16-95)"},
   };
   std::vector<PaperDataset> present;
   for (const PaperDataset& dataset : all) {
     const std::string folder = std::filesystem::path(dataset.inputs[0]).parent_path().string();
-    const std::string probe = dataset.raw_spec.empty() ? dataset.inputs[0] : folder;
-    if (std::filesystem::exists(probe)) present.push_back(dataset);
+    if (std::filesystem::exists(folder)) present.push_back(dataset);
   }
   return present;
 }

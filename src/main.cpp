@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
       "  mvox demo\n"
       "  mvox extract 'cthead/CThead.*' --raw 256x256:u16be -t 600 --spacing 1,1,2 -o head.ply\n"
       "  mvox extract engine_256x256x128_uint8.raw --raw 256x256x128:u8 -t 100 -o engine.ply\n"
-      "  mvox extract mrbrain8bit/ -t 60 -o brain.ply",
+      "  mvox extract 'mrbrain8bit/mrbrain-8bit*.png' -t 50 -o brain.ply",
       "mvox"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "mvox 0.1.0");

@@ -96,6 +96,26 @@ TEST(EngineWorkspace, BoundGrowsWithTheSliceAndIsAPureFunction) {
   EXPECT_GT(engine_workspace_bytes(256, 256, literal), small);
 }
 
+// README.md states the workspace as a formula; keep the two in step. The remainder is the
+// engine's state struct and the 16-byte alignment of each buffer.
+TEST(EngineWorkspace, MatchesTheFormulaInTheReadme) {
+  EngineOptions options;
+  EngineOptions literal;
+  literal.kind = EngineKind::literal;
+  const std::uint32_t sizes[][2] = {{1, 1}, {7, 5}, {256, 256}, {513, 300}, {2048, 2048}};
+  for (const auto& size : sizes) {
+    const std::size_t w = size[0], h = size[1];
+    const std::size_t formula = (w + 2 + 63) / 64 * (76 * h + 32) + 16 * 4096 + 32 * 4096;
+    const std::size_t actual = engine_workspace_bytes(size[0], size[1], options);
+    EXPECT_GE(actual, formula) << w << "x" << h;
+    EXPECT_LE(actual, formula + 512) << w << "x" << h;
+    // The literal engine adds 2 * 49 bytes per cube of a layer for its merge state.
+    const std::size_t literal_extra = engine_workspace_bytes(size[0], size[1], literal) - actual;
+    EXPECT_GE(literal_extra, 98 * (w + 1) * (h + 1)) << w << "x" << h;
+    EXPECT_LE(literal_extra, 98 * (w + 1) * (h + 1) + 16) << w << "x" << h;
+  }
+}
+
 TEST(EngineWorkspace, InvalidArgumentsAreRefused) {
   EngineOptions options;
   EXPECT_EQ(engine_workspace_bytes(0, 5, options), 0u);

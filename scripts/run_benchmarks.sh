@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Runs the benchmarks and writes docs/benchmarks.md (needs ../shared/datasets beside the
+# checkout). RUNS=N sets the number of runs per figure (median reported; default 5).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+runs=${RUNS:-5}
+"$root/scripts/install_deps.sh" >/dev/null
+cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_bench_extract >/dev/null
+
+out="$root/docs/benchmarks.md"
+tmp=$(mktemp)
+trap 'rm -f "$tmp"' EXIT
+cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
+{
+  echo "# Benchmarks"
+  echo
+  echo "Written by \`scripts/run_benchmarks.sh\` (RUNS=$runs) on $(date -u +%Y-%m-%d):"
+  echo "$cpu, $(nproc) cores, $(g++ --version | head -1), Release build, one thread."
+  echo "The machine is shared and noisy: every figure is the median of $runs runs, and runs of the"
+  echo "things compared are interleaved so that drift affects them alike."
+  echo
+  echo "## Extraction throughput on the paper's datasets"
+  echo
+  echo "\`build/bench/mvox_bench_extract --runs $runs\`"
+  echo
+  echo "- *in memory*: the slices are already decoded in memory; the engine runs to a sink that only"
+  echo "  counts (what a caller of the core library gets).  Mvoxel/s = width x height x slices / time."
+  echo "- *end to end*: read the files (from the page cache), extract, write binary PLY to a temporary"
+  echo "  directory; what \`mvox extract\` does."
+  echo "- Both engines give identical output (the program checks the counts)."
+  echo
+  "$root/build/bench/mvox_bench_extract" --runs "$runs"
+  echo
+  echo "## Memory does not grow with the number of slices"
+  echo
+  echo "\`bench/memory_vs_slices.sh build/src/mvox 3\`: \`mvox extract\` on random-blob phantom stacks"
+  echo "(\`mvox phantom blobs\`) with the same slice size. *Peak resident memory* is the whole"
+  echo "process (\`/usr/bin/time\`), about 48 MiB of which are the shared libraries Debian's OpenCV"
+  echo "loads; *the job's own share* is the peak minus the resident size when the job started."
+  echo
+  "$root/bench/memory_vs_slices.sh" "$root/build/src/mvox" 3
+} > "$tmp"
+mv "$tmp" "$out"
+echo "wrote $out"
