@@ -19,25 +19,13 @@
 #include "paper_datasets.h"
 #include "pipeline.h"
 #include "ply_writer.h"
+#include "counting_sink.h"
 #include "workspace_buffer.h"
 
 namespace mvox::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-class CountingSink : public PolygonSink {
- public:
-  Status consume_vertices(const Vertex*, std::size_t count) override {
-    vertices += count;
-    return Status::ok;
-  }
-  Status consume_polygons(const Polygon*, std::size_t count) override {
-    polygons += count;
-    return Status::ok;
-  }
-  std::uint64_t vertices = 0, polygons = 0;
-};
 
 // A whole volume decoded into memory, so the in-memory runs time the engine alone.
 struct LoadedVolume {

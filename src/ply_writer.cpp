@@ -94,11 +94,26 @@ Status PlyWriter::refuse(const Error& error) {
   return Status::sink_refused;
 }
 
-Status PlyWriter::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
+template <class Body>
+Status PlyWriter::guarded(const char* batch, Body&& body) {
   // No exception may leave: the engine that calls us is compiled with -fno-exceptions.
   try {
     if (error_) return Status::sink_refused;
-    if (finished_) throw Error(out_.subject(), "internal error: vertices after finish()");
+    if (finished_)
+      throw Error(out_.subject(), std::string("internal error: ") + batch + " after finish()");
+    body();
+    return Status::ok;
+  } catch (const Error& error) {
+    return refuse(error);
+  } catch (const std::exception& error) {
+    return refuse(Error(out_.subject(), error.what()));
+  } catch (...) {
+    return refuse(Error(out_.subject(), "unknown error"));
+  }
+}
+
+Status PlyWriter::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
+  return guarded("vertices", [&] {
     if (vertex_count > kMaxVertices - vertex_count_) {
       throw Error(out_.subject(), "more than " + std::to_string(kMaxVertices) +
                                       " vertices, which PLY int indices cannot address");
@@ -108,14 +123,7 @@ Status PlyWriter::consume_vertices(const Vertex* vertices, std::size_t vertex_co
     } else {
       write_vertices(out_, vertices, vertex_count);
     }
-    return Status::ok;
-  } catch (const Error& error) {
-    return refuse(error);
-  } catch (const std::exception& error) {
-    return refuse(Error(out_.subject(), error.what()));
-  } catch (...) {
-    return refuse(Error(out_.subject(), "unknown error"));
-  }
+  });
 }
 
 template <class Sink>
@@ -157,18 +165,7 @@ void PlyWriter::write_vertices(Sink& sink, const Vertex* vertices, std::size_t v
 }
 
 Status PlyWriter::consume_polygons(const Polygon* polygons, std::size_t polygon_count) {
-  try {
-    if (error_) return Status::sink_refused;
-    if (finished_) throw Error(out_.subject(), "internal error: polygons after finish()");
-    write_polygons(polygons, polygon_count);
-    return Status::ok;
-  } catch (const Error& error) {
-    return refuse(error);
-  } catch (const std::exception& error) {
-    return refuse(Error(out_.subject(), error.what()));
-  } catch (...) {
-    return refuse(Error(out_.subject(), "unknown error"));
-  }
+  return guarded("polygons", [&] { write_polygons(polygons, polygon_count); });
 }
 
 void PlyWriter::write_polygons(const Polygon* polygons, std::size_t polygon_count) {

@@ -72,6 +72,9 @@ class PlyWriter final : public PolygonSink {
   template <class Sink>
   void write_vertices(Sink& sink, const Vertex* vertices, std::size_t vertex_count);
   void write_polygons(const Polygon* polygons, std::size_t polygon_count);
+  // Runs `body`, turning any exception into a remembered error and Status::sink_refused.
+  template <class Body>
+  Status guarded(const char* batch, Body&& body);
   Status refuse(const Error& error);
 
   // Declared first so that options are checked before any file is created.

@@ -147,4 +147,16 @@ void swap_to_native(void* samples, std::size_t sample_count, std::size_t bytes_p
   }
 }
 
+SliceView native_slice_view(std::vector<unsigned char>& buffer, const RawFormat& format) {
+  swap_to_native(buffer.data(), buffer.size() / format.bytes_per_sample, format.bytes_per_sample,
+                 format.byte_order);
+  SliceView slice;
+  slice.samples = buffer.data();
+  slice.width = format.width;
+  slice.height = format.height;
+  slice.row_stride_bytes = static_cast<std::size_t>(format.width) * format.bytes_per_sample;
+  slice.type = format.type;
+  return slice;
+}
+
 }  // namespace mvox

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "mvox/slice.h"
 
@@ -42,5 +43,9 @@ std::string raw_format_text(const RawFormat& format);
 // when `file_order` differs from the native order; otherwise leaves them alone.
 void swap_to_native(void* samples, std::size_t sample_count, std::size_t bytes_per_sample,
                     ByteOrder file_order);
+
+// Swaps one slice read into `buffer` to native order in place and returns the view of it the
+// engine reads: the one step both raw readers finish every slice with.
+SliceView native_slice_view(std::vector<unsigned char>& buffer, const RawFormat& format);
 
 }  // namespace mvox

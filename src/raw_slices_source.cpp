@@ -42,13 +42,7 @@ bool RawSlicesSource::next_slice(SliceView* slice) {
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
   file.read_at(0, buffer_.data(), buffer_.size());
-  swap_to_native(buffer_.data(), buffer_.size() / format_.bytes_per_sample,
-                 format_.bytes_per_sample, format_.byte_order);
-  slice->samples = buffer_.data();
-  slice->width = info_.width;
-  slice->height = info_.height;
-  slice->row_stride_bytes = static_cast<std::size_t>(format_.width) * format_.bytes_per_sample;
-  slice->type = info_.type;
+  *slice = native_slice_view(buffer_, format_);
   ++next_index_;
   return true;
 }

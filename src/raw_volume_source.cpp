@@ -22,13 +22,7 @@ RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& forma
 bool RawVolumeSource::next_slice(SliceView* slice) {
   if (next_index_ >= format_.depth) return false;
   file_.read_at(std::uint64_t{next_index_} * buffer_.size(), buffer_.data(), buffer_.size());
-  swap_to_native(buffer_.data(), buffer_.size() / format_.bytes_per_sample,
-                 format_.bytes_per_sample, format_.byte_order);
-  slice->samples = buffer_.data();
-  slice->width = info_.width;
-  slice->height = info_.height;
-  slice->row_stride_bytes = static_cast<std::size_t>(format_.width) * format_.bytes_per_sample;
-  slice->type = info_.type;
+  *slice = native_slice_view(buffer_, format_);
   ++next_index_;
   return true;
 }

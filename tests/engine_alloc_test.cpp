@@ -7,6 +7,7 @@
 #include <new>
 #include <random>
 
+#include "counting_sink.h"
 #include "mesh_capture.h"
 #include "mvox/engine.h"
 
@@ -39,20 +40,6 @@ void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 namespace mvox {
 namespace {
 
-// A sink that does no allocation of its own, so any count is the engine's.
-class TallySink : public PolygonSink {
- public:
-  Status consume_vertices(const Vertex*, std::size_t count) override {
-    vertices += count;
-    return Status::ok;
-  }
-  Status consume_polygons(const Polygon*, std::size_t count) override {
-    polygons += count;
-    return Status::ok;
-  }
-  std::size_t vertices = 0, polygons = 0;
-};
-
 class AllocationWindow {
  public:
   AllocationWindow() {
@@ -82,7 +69,7 @@ TEST(EngineAllocation, NothingIsAllocatedWhileSlicesArePushedOrTheVolumeFinished
       options.vertices_per_batch = 100;  // small batches: many flushes inside the window
       options.polygons_per_batch = 100;
       test::Workspace workspace(engine_workspace_bytes(w, h, options));
-      TallySink sink;
+      CountingSink sink;  // allocates nothing itself: any count is the engine's
       Engine engine;
       ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), w, h, 128, options, &sink), Status::ok);
       std::size_t allocations = 0;

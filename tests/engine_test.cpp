@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 
+#include "counting_sink.h"
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
@@ -38,21 +39,6 @@ SliceView slice_of(const BinaryVolume& volume, std::uint32_t z) {
   slice.row_stride_bytes = volume.width;
   return slice;
 }
-
-class CountingSink : public PolygonSink {
- public:
-  Status consume_vertices(const Vertex*, std::size_t count) override {
-    vertices += count;
-    ++batches;
-    return batches == refuse_at_batch ? Status::sink_refused : Status::ok;
-  }
-  Status consume_polygons(const Polygon*, std::size_t count) override {
-    polygons += count;
-    ++batches;
-    return batches == refuse_at_batch ? Status::sink_refused : Status::ok;
-  }
-  std::size_t vertices = 0, polygons = 0, batches = 0, refuse_at_batch = 0;
-};
 
 TEST(EngineWorkspace, EverySizeBelowTheBoundIsRefusedAndTheBoundItselfWorks) {
   const std::uint32_t sizes[][2] = {{1, 1}, {3, 2}, {7, 5}, {62, 3}, {63, 2}, {64, 1}, {130, 4}};
@@ -158,6 +144,11 @@ TEST(EngineLifecycle, CallsOutOfOrderAndWrongSlicesAreRefusedWithAStatus) {
   SliceView null_samples = slice_of(volume, 0);
   null_samples.samples = nullptr;
   EXPECT_EQ(engine.push_slice(null_samples), Status::invalid_argument);
+  std::vector<std::uint16_t> wide(8);
+  SliceView misaligned{reinterpret_cast<const char*>(wide.data()) + 1, 3, 2, 6, SampleType::u16};
+  EXPECT_EQ(engine.push_slice(misaligned), Status::invalid_argument);
+  SliceView odd_stride{wide.data(), 3, 2, 7, SampleType::u16};
+  EXPECT_EQ(engine.push_slice(odd_stride), Status::invalid_argument);
   EXPECT_EQ(engine.counters().slices, 0u);  // refused slices leave the engine as it was
 
   EXPECT_EQ(engine.push_slice(slice_of(volume, 0)), Status::ok);
@@ -186,7 +177,7 @@ TEST(EngineLifecycle, ASinkThatRefusesStopsTheEngineAndReceivesNothingMore) {
   for (std::size_t refuse_at : {1, 2, 5, 40}) {
     Workspace workspace(engine_workspace_bytes(20, 17, options));
     CountingSink sink;
-    sink.refuse_at_batch = refuse_at;
+    sink.refuse_batch = refuse_at;
     Engine engine;
     ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 20, 17, 128, options, &sink), Status::ok);
     Status last = Status::ok;

@@ -30,6 +30,9 @@ const RealVolume kVolumes[] = {
     {"headsq", "/headsq/quarter.[0-9]*", "64x64:i16le", 1150},
 };
 
+// Names the volume in test output instead of its bytes.
+void PrintTo(const RealVolume& volume, std::ostream* out) { *out << volume.name; }
+
 class RealVolumes : public ::testing::TestWithParam<RealVolume> {};
 
 std::unique_ptr<SliceSource> open(const RealVolume& volume) {

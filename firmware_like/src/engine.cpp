@@ -415,8 +415,10 @@ bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t wid
 
 Status Engine::push_slice(const SliceView& slice) {
   if (failure_ != Status::ok) return failure_;
-  if (!slice.samples || slice.row_stride_bytes < std::size_t{slice.width} * sample_bytes(slice.type))
-    return Status::invalid_argument;
+  const std::size_t bytes = sample_bytes(slice.type);
+  if (!slice.samples || slice.row_stride_bytes < std::size_t{slice.width} * bytes ||
+      reinterpret_cast<std::uintptr_t>(slice.samples) % bytes != 0 || slice.row_stride_bytes % bytes != 0)
+    return Status::invalid_argument;  // misaligned samples would be read out of type
   if (slice.width != width_ || slice.height != height_) return Status::slice_size_mismatch;
   if (counters_.slices >= 0xFFFFFFFFu) return Status::invalid_argument;
 
