@@ -80,7 +80,7 @@ double extract_end_to_end(const PaperDataset& dataset, EngineKind kind, const st
   EngineOptions options;
   options.kind = kind;
   PlyWriter writer(output);
-  const PipelineResult result = run_pipeline(*source, dataset.threshold, options, writer);
+  const PipelineResult result = run_pipeline(*source, dataset.threshold, options, writer, dataset.name);
   if (result.status != Status::ok) return -1;
   writer.finish();
   return std::chrono::duration<double>(Clock::now() - start).count();

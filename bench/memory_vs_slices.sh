@@ -17,14 +17,15 @@ trap 'rm -rf "$scratch"' EXIT
 "$mvox" phantom blobs --size "${size}x${size}x${short}" -o "$scratch/short" -q
 "$mvox" phantom blobs --size "${size}x${size}x${tall}" -o "$scratch/tall" -q
 
+# The number after "KEY": in mvox's --stats JSON (one key per line).
+json_number() { sed -n "s/^ *\"$1\": \([0-9.]*\).*/\1/p" "$2"; }
 median() { sort -n | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
 for run in $(seq "$runs"); do
   for stack in short tall; do
     /usr/bin/time -f "%M" -o "$scratch/rss" "$mvox" extract "$scratch/$stack" -t 128 \
       -o "$scratch/$stack.ply" --stats "$scratch/$stack.json" -q
     echo "$(cat "$scratch/rss")" >> "$scratch/$stack.rss_kib"
-    /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['job_memory_bytes'])" \
-      "$scratch/$stack.json" >> "$scratch/$stack.job_bytes"
+    json_number job_memory_bytes "$scratch/$stack.json" >> "$scratch/$stack.job_bytes"
   done
 done
 
@@ -32,7 +33,7 @@ echo "| stack | slices | polygons | peak resident memory (median of $runs) | the
 echo "|---|---|---|---|---|"
 for stack in short tall; do
   depth=$([ "$stack" = short ] && echo "$short" || echo "$tall")
-  polygons=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['polygons'])" "$scratch/$stack.json")
+  polygons=$(json_number polygons "$scratch/$stack.json")
   rss=$(median < "$scratch/$stack.rss_kib")
   job=$(median < "$scratch/$stack.job_bytes")
   awk -v s="$size" -v d="$depth" -v p="$polygons" -v r="$rss" -v j="$job" \

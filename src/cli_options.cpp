@@ -1,6 +1,21 @@
 #include "cli_options.h"
 
+#include <cmath>
+#include <cstdlib>
+
 namespace mvox {
+
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "'" + text + "' is not a number";
+        if (!std::isfinite(value)) return "'" + text + "' is not a finite number";
+        return {};
+      },
+      "NUMBER");
+}
 
 void add_engine_options(CLI::App& command, EngineChoice& choice) {
   command.add_option("--method", choice.method, "Surface method")

@@ -16,6 +16,9 @@ struct EngineChoice {
   EngineOptions options() const;
 };
 
+// Accepts a finite number (refuses nan and inf), for thresholds.
+CLI::Validator finite_number();
+
 // --method, --engine, --surface.
 void add_engine_options(CLI::App& command, EngineChoice& choice);
 

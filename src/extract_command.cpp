@@ -1,4 +1,6 @@
 // mvox extract INPUT... -t D -o mesh.ply: the main job.
+#include <chrono>
+#include <cstdio>
 #include <memory>
 #include <optional>
 
@@ -30,10 +32,14 @@ std::string input_label(const std::vector<std::string>& inputs) {
 void run_extract(const ExtractArguments& args) {
   std::optional<RawFormat> raw;
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
+  // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
+  const auto open_start = std::chrono::steady_clock::now();
   std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw);
   const VolumeInfo& info = source->info();
 
   MeshJob job;
+  job.source_open_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - open_start).count();
   job.input_label = input_label(args.inputs);
   job.threshold = args.threshold;
   job.engine = args.engine.options();
@@ -58,7 +64,9 @@ void add_extract_command(CLI::App& app) {
                       "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images, raw slice "
                       "files, or one raw volume file (with --raw)")
       ->required();
-  command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")->required();
+  command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
+      ->required()
+      ->check(finite_number());
   command->add_option("-o,--output", args->output, "Output PLY file ('-' for standard output)")
       ->required();
   command->add_option("--raw", args->raw_spec,

@@ -62,15 +62,17 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   report.engine = engine_kind_name(job.engine.kind);
   report.surface = surface_rule_name(job.engine.rule);
 
-  // Every output is created before the first slice is read, so a bad path fails at once, not
-  // after a long run; none of them appears until everything has succeeded.
+  // Every output is created before extraction starts, so a bad path fails at once, not after a
+  // long run; they appear together, and only when everything has succeeded.
+  if (!job.stats_path.empty() && job.stats_path == job.output)
+    throw Error("--stats", "'" + job.stats_path + "' is also the mesh output");
   PlyWriter writer(job.output, job.ply);
   std::optional<OutputFile> stats_file;
   if (!job.stats_path.empty()) stats_file.emplace(job.stats_path);
   {
     ProgressLine progress("extracting", report.volume.depth,
                           !job.quiet && ProgressLine::stderr_is_terminal());
-    report.result = run_pipeline(source, job.threshold, job.engine, writer,
+    report.result = run_pipeline(source, job.threshold, job.engine, writer, job.input_label,
                                  [&progress](std::uint32_t done) { progress.update(done); });
   }
   if (report.result.status == Status::sink_refused && writer.error()) throw *writer.error();
@@ -79,18 +81,21 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
                                      status_message(report.result.status));
 
   const auto finish_start = std::chrono::steady_clock::now();
-  writer.finish();
+  writer.complete();
   const double finish_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - finish_start).count();
   report.result.times.write_s += finish_s;
-  report.result.times.total_s += finish_s;
+  report.result.times.read_s += job.source_open_s;
+  report.result.times.total_s += finish_s + job.source_open_s;
   report.peak_memory_bytes = peak_resident_bytes();
 
   if (stats_file) {
     const std::string json = run_report_json(report);
     stats_file->write(json.data(), json.size());
-    stats_file->commit();
+    stats_file->seal();
   }
+  writer.publish();
+  if (stats_file) stats_file->publish();
   if (!job.quiet) print_summary(report);
   return report;
 }

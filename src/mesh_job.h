@@ -18,6 +18,7 @@ struct MeshJob {
   PlyWriterOptions ply;
   std::string stats_path;   // empty: no report
   bool quiet = false;       // no progress line, no summary
+  double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
 };
 
 // Runs the job; throws mvox::Error naming the file or stage at fault. On any failure no output

@@ -104,8 +104,8 @@ void OutputFile::overwrite(std::uint64_t offset, const void* data, std::size_t s
   }
 }
 
-void OutputFile::commit() {
-  MVOX_ASSERT(!committed_);
+void OutputFile::seal() {
+  MVOX_ASSERT(!sealed_);
   if (failed_) throw Error(subject_, "write failed earlier");
   if (const int error = writer_.flush()) fail_write(error);
   if (temp_path_.empty()) {
@@ -116,7 +116,7 @@ void OutputFile::commit() {
       writer_.set_fd(-1);
       if (::close(fd) != 0) fail_write(errno);
     }
-    committed_ = true;
+    sealed_ = true;
     return;
   }
   // fsync before rename: otherwise a crash shortly after can leave the new name on an empty
@@ -125,11 +125,21 @@ void OutputFile::commit() {
   const int fd = writer_.fd();
   writer_.set_fd(-1);
   if (::close(fd) != 0) fail_write(errno);
-  if (::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+  sealed_ = true;
+}
+
+void OutputFile::publish() {
+  MVOX_ASSERT(sealed_ && !committed_);
+  if (!temp_path_.empty() && ::rename(temp_path_.c_str(), path_.c_str()) != 0) {
     failed_ = true;
     throw Error(subject_, "cannot replace file: " + errno_text(errno));
   }
   committed_ = true;
+}
+
+void OutputFile::commit() {
+  seal();
+  publish();
 }
 
 std::string OutputFile::scratch_directory() const {

@@ -48,6 +48,12 @@ class OutputFile {
   // flushes and closes). Throws mvox::Error; on failure the target is untouched.
   void commit();
 
+  // commit() in two steps, so that several files can appear together: seal() does all the I/O
+  // that can still fail (flush, fsync, close); publish() then only renames. A sealed file that
+  // is never published is deleted like an uncommitted one.
+  void seal();
+  void publish();
+
   std::uint64_t bytes_written() const { return writer_.bytes_written(); }
 
   // The target as given ("-" for standard output).
@@ -69,6 +75,7 @@ class OutputFile {
   BufferedWriter writer_;
   bool owns_fd_ = false;  // false for standard output
   bool failed_ = false;
+  bool sealed_ = false;
   bool committed_ = false;
 };
 

@@ -1,6 +1,8 @@
 // mvox phantom NAME -o DIR: writes a phantom of sim/ as an image stack, so that everything a user
 // does with scanned slices can be tried, and tested, on data with known answers.
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 
@@ -23,6 +25,15 @@ struct PhantomArguments {
   bool quiet = false;
 };
 
+// Removes the folder and everything in it unless released (path cleared).
+struct TemporaryDirectory {
+  std::filesystem::path path;
+  ~TemporaryDirectory() {
+    std::error_code ignored;
+    if (!path.empty()) std::filesystem::remove_all(path, ignored);
+  }
+};
+
 sim::Grid parse_size(const std::string& text) {
   static const std::regex pattern(R"((\d{1,5})x(\d{1,5})x(\d{1,5}))");
   std::smatch match;
@@ -43,15 +54,30 @@ void run_phantom(const PhantomArguments& args) {
       sim::default_scan_options(args.bits == 16 ? SampleType::u16 : SampleType::u8);
   sim::SimulatedScanner scanner(*phantom, scan);
 
+  // The stack appears whole or not at all: written into a temporary folder beside the target,
+  // renamed into place at the end. An existing non-empty folder is refused, since mixing two
+  // stacks would silently make a third volume.
+  const std::filesystem::path target(args.directory);
   std::error_code error;
-  std::filesystem::create_directories(args.directory, error);
-  if (error) throw Error(args.directory, "cannot create directory: " + error.message());
+  if (std::filesystem::exists(target, error) && !std::filesystem::is_empty(target, error))
+    throw Error(args.directory, "already exists and is not empty; choose a new directory");
+  const std::filesystem::path parent =
+      target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+  std::string pattern = (parent / ("." + target.filename().string() + ".XXXXXX")).string();
+  if (!mkdtemp(pattern.data()))
+    throw Error(args.directory, "cannot create directory: " + errno_text(errno));
+  TemporaryDirectory staging{pattern};
+
   SliceView slice;
   for (std::uint32_t z = 0; scanner.next_slice(&slice); ++z) {
     char name[64];
     std::snprintf(name, sizeof name, "%s_%04u.%s", args.name.c_str(), z, args.format.c_str());
-    write_slice_image((std::filesystem::path(args.directory) / name).string(), slice);
+    write_slice_image((staging.path / name).string(), slice);
   }
+  // rename() also replaces an empty directory left at the target.
+  if (std::rename(staging.path.c_str(), target.c_str()) != 0)
+    throw Error(args.directory, "cannot create directory: " + errno_text(errno));
+  staging.path.clear();
   if (!args.quiet) {
     const double threshold = sim::sample_threshold(sim::default_density_threshold(args.name), scan);
     std::fprintf(stderr, "wrote %u slices of %ux%u %d-bit %s to %s\nextract with: mvox extract %s -t %g -o %s.ply\n",

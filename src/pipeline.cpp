@@ -56,19 +56,20 @@ class TimedSource : public SliceSource {
 }  // namespace
 
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
-                            PolygonSink& sink, const SliceProgress& progress) {
+                            PolygonSink& sink, const std::string& input_label,
+                            const SliceProgress& progress) {
   const VolumeInfo& info = source.info();
   PipelineResult result;
   result.workspace_bytes = engine_workspace_bytes(info.width, info.height, options);
   if (result.workspace_bytes == 0)
-    throw Error("engine", "cannot process slices of " + std::to_string(info.width) + "x" +
-                              std::to_string(info.height) + " voxels");
+    throw Error(input_label, "slices of " + std::to_string(info.width) + "x" +
+                                 std::to_string(info.height) + " voxels are too large to extract");
   WorkspaceBuffer workspace(result.workspace_bytes);
   TimedSink timed_sink(sink);
   Engine engine;
   const Status init = engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
                                   threshold, options, &timed_sink);
-  if (init != Status::ok) throw Error("engine", status_message(init));
+  if (init != Status::ok) throw Error(input_label, std::string("cannot start: ") + status_message(init));
 
   TimedSource timed_source(source);
   const auto start = Clock::now();

@@ -2,6 +2,7 @@
 // One extraction, source to sink, with the time spent in each phase: what `mvox extract`,
 // `mvox demo` and the benchmarks all run.
 #include <cstdint>
+#include <string>
 
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
@@ -24,8 +25,10 @@ struct PipelineResult {
 };
 
 // Streams every slice of `source` through a new engine into `sink` and finishes the volume.
-// Throws mvox::Error for options the engine refuses (for example a slice too large).
+// Throws mvox::Error naming `input_label` when the engine refuses the source (for example
+// slices too large to address).
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
-                            PolygonSink& sink, const SliceProgress& progress = {});
+                            PolygonSink& sink, const std::string& input_label,
+                            const SliceProgress& progress = {});
 
 }  // namespace mvox

@@ -1,5 +1,7 @@
 #pragma once
 // A strict PLY reader: any malformed input is refused with an mvox::Error, never guessed at.
+// It lives in the host library because mvox reads meshes back: the tests check every file the
+// writer makes with it, and `mvox render mesh.ply` and the fuzz targets (planned) will use it.
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -10,7 +10,6 @@ namespace mvox {
 namespace {
 
 // PLY "int" indices are signed 32-bit: vertex 2^31 - 1 is the last one a face can name.
-constexpr std::uint64_t kMaxVertices = std::uint64_t{1} << 31;
 // Counts are reserved at their widest: 20 digits, enough for any 64-bit value.
 constexpr std::uint64_t kWidestCount = std::numeric_limits<std::uint64_t>::max();
 constexpr char kEndHeader[] = "end_header\n";
@@ -114,8 +113,8 @@ Status PlyWriter::guarded(const char* batch, Body&& body) {
 
 Status PlyWriter::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
   return guarded("vertices", [&] {
-    if (vertex_count > kMaxVertices - vertex_count_) {
-      throw Error(out_.subject(), "more than " + std::to_string(kMaxVertices) +
+    if (vertex_count > kMaxVertexCount - vertex_count_) {
+      throw Error(out_.subject(), "more than " + std::to_string(kMaxVertexCount) +
                                       " vertices, which PLY int indices cannot address");
     }
     if (vertex_spool_) {
@@ -207,6 +206,11 @@ void PlyWriter::write_polygons(const Polygon* polygons, std::size_t polygon_coun
 }
 
 void PlyWriter::finish() {
+  complete();
+  publish();
+}
+
+void PlyWriter::complete() {
   if (finished_) throw Error(out_.subject(), "internal error: finish() called twice");
   if (error_) throw *error_;
   try {
@@ -225,12 +229,14 @@ void PlyWriter::finish() {
       header += kEndHeader;
       out_.overwrite(0, header.data(), header.size());
     }
-    out_.commit();
+    out_.seal();
   } catch (const Error& error) {
     error_ = error;
     throw;
   }
   finished_ = true;
 }
+
+void PlyWriter::publish() { out_.publish(); }
 
 }  // namespace mvox

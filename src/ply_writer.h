@@ -58,6 +58,10 @@ class PlyWriter final : public PolygonSink {
   // Completes and commits the file. Throws the remembered error of a refused batch, or any
   // error of its own; throws if called twice.
   void finish();
+  // finish() in two steps, to make the mesh appear together with another file (OutputFile's
+  // seal() and publish()): complete() writes and seals everything, publish() only renames.
+  void complete();
+  void publish();
 
   std::uint64_t vertices_written() const { return vertex_count_; }
   std::uint64_t faces_written() const { return face_count_; }

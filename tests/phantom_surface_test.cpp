@@ -100,6 +100,7 @@ TEST(PhantomSurface, HollowShellIsTwoSpheresWithEulerCharacteristicFour) {
   EXPECT_GT(t.signed_volume, 0.85 * shell_volume);
   EXPECT_LT(t.signed_volume, 1.1 * shell_volume);
   expect_vertices_at_every_inner_outer_pair(mesh, binary_volume(shell));
+  expect_literal_equals_fast(shell);
 }
 
 TEST(PhantomSurface, NestedShellsGiveOneSphereSurfacePerRadius) {
@@ -109,6 +110,7 @@ TEST(PhantomSurface, NestedShellsGiveOneSphereSurfacePerRadius) {
   EXPECT_TRUE(t.closed_and_consistent()) << describe(t);
   EXPECT_EQ(t.components, 5u);
   EXPECT_EQ(t.euler(), 10) << describe(t);
+  expect_literal_equals_fast(shells);
 }
 
 TEST(PhantomSurface, OddAsymmetricGridKeepsTheAxesApart) {

@@ -60,6 +60,14 @@ TEST_P(RealVolumes, LiteralEqualsFastAndTheSurfaceIsClosed) {
   EXPECT_GT(t.signed_volume, 0);
   EXPECT_GT(t.faces, 1000u);
 
+  // The paper's Table 1 on the same scan: same vertices, but holes (docs/surface_rules.md).
+  EngineOptions table1;
+  table1.rule = SurfaceRule::paper_table1;
+  source = open(volume);
+  const test::Topology paper = test::analyse(test::extract(*source, volume.threshold, table1));
+  EXPECT_EQ(paper.vertices, t.vertices);
+  EXPECT_GT(paper.open_edges, 0u) << volume.name;
+
   // The vertex oracle on the classified volume.
   source = open(volume);
   const VolumeInfo& info = source->info();

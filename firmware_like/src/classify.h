@@ -1,5 +1,6 @@
 #pragma once
-// Phase 0: one slice of samples to one slice of bit rows (bit_rows.h), inner = sample >= D.
+// The engine's PASS 1 (engine.cpp): one slice of samples to one slice of bit rows (bit_rows.h),
+// inner = sample >= D.
 #include <cstdint>
 
 #include "mvox/slice.h"

@@ -7,6 +7,7 @@
 // Slices -1 and D (one past the last) are all outer, so every surface closes.
 #include "mvox/engine.h"
 
+#include <cstdint>
 #include <cstring>
 #include <new>
 
@@ -22,14 +23,11 @@ using detail::EngineState;
 
 namespace {
 
-// PLY and most mesh consumers index vertices with signed 32-bit integers.
-constexpr std::uint64_t kMaxVertices = 0x7FFFFFFF;
-
 // Slices wider or taller than this are refused: plane counters are 32-bit.
 constexpr std::uint64_t kMaxEdgesPerPlane = 0x7FFFFFFF;
 
-constexpr std::size_t align_up(std::size_t bytes) {
-  return (bytes + kWorkspaceAlignment - 1) & ~(kWorkspaceAlignment - 1);
+constexpr std::uint64_t align_up(std::uint64_t bytes) {
+  return (bytes + kWorkspaceAlignment - 1) & ~std::uint64_t{kWorkspaceAlignment - 1};
 }
 
 // Where each buffer lives in the workspace. One function computes it both for
@@ -83,32 +81,35 @@ namespace {
 bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptions& options,
                     Layout* layout) {
   if (width == 0 || height == 0 || !options_valid(options)) return false;
-  if (std::uint64_t{width + 2} * (height + 1) > kMaxEdgesPerPlane) return false;
-  const std::size_t words = padded_row_words(width);
-  std::size_t offset = 0;
-  auto take = [&offset](std::size_t bytes) {
-    const std::size_t start = offset;
+  // Checked in 64 bits before any 32-bit arithmetic on the dimensions: this bound keeps
+  // width + 2, height + 1 and every plane's vertex count far below 2^32.
+  if ((std::uint64_t{width} + 2) * (std::uint64_t{height} + 1) > kMaxEdgesPerPlane) return false;
+  const std::uint64_t words = padded_row_words(width);
+  std::uint64_t offset = 0;  // 64-bit so that a 32-bit size_t cannot wrap; checked at the end
+  auto take = [&offset](std::uint64_t bytes) {
+    const std::uint64_t start = offset;
     offset += align_up(bytes);
-    return start;
+    return static_cast<std::size_t>(start);
   };
-  auto words_bytes = [words](std::size_t rows) { return rows * words * sizeof(std::uint64_t); };
-  auto prefix_bytes = [words](std::size_t rows) { return rows * words * sizeof(std::uint32_t); };
+  auto words_bytes = [words](std::uint64_t rows) { return rows * words * sizeof(std::uint64_t); };
+  auto prefix_bytes = [words](std::uint64_t rows) { return rows * words * sizeof(std::uint32_t); };
   layout->state = take(sizeof(EngineState));
   for (int slot = 0; slot < 2; ++slot) {
     layout->inner[slot] = take(words_bytes(height));
     layout->x_bits[slot] = take(words_bytes(height));
     layout->x_prefix[slot] = take(prefix_bytes(height));
-    layout->y_bits[slot] = take(words_bytes(height + 1));
-    layout->y_prefix[slot] = take(prefix_bytes(height + 1));
+    layout->y_bits[slot] = take(words_bytes(std::uint64_t{height} + 1));
+    layout->y_prefix[slot] = take(prefix_bytes(std::uint64_t{height} + 1));
   }
   layout->zero_row = take(words_bytes(1));
   layout->z_bits = take(words_bytes(height));
   layout->z_prefix = take(prefix_bytes(height));
-  layout->vertices = take(std::size_t{options.vertices_per_batch} * sizeof(Vertex));
-  layout->polygons = take(std::size_t{options.polygons_per_batch} * sizeof(Polygon));
+  layout->vertices = take(std::uint64_t{options.vertices_per_batch} * sizeof(Vertex));
+  layout->polygons = take(std::uint64_t{options.polygons_per_batch} * sizeof(Polygon));
   layout->literal =
       take(options.kind == EngineKind::literal ? LiteralLayers::bytes(width, height) : 0);
-  layout->total = offset;
+  if (offset > SIZE_MAX / 2) return false;
+  layout->total = static_cast<std::size_t>(offset);
   return true;
 }
 
@@ -185,7 +186,7 @@ class Emitter {
 
   // Returns false when the sink refused or the index space is exhausted; status() says which.
   bool vertex(float x, float y, float z, Axis axis, bool inner_is_lower) {
-    if (counters_.vertices >= kMaxVertices) return stop(Status::vertex_index_overflow);
+    if (counters_.vertices >= kMaxVertexCount) return stop(Status::vertex_index_overflow);
     Vertex& v = state_.vertex_batch[state_.vertex_fill++];
     v.x = x;
     v.y = y;
@@ -413,12 +414,28 @@ bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t wid
 
 }  // namespace
 
+// PASSES 2 and 3 for the cube layer between slice z - 1 and slice z (slot z & 1), whose bit rows
+// are in place: its vertices first, flushed, then its polygons. Slice z is the all-outer slice
+// beyond the volume when `real_slice` is false: it has no x- or y-edge vertices.
+Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_slice) {
+  const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
+  Emitter emitter(st, counters_);
+  const bool ok =
+      emit_vertices(st, hi, z, height_, real_slice, emitter, counters_.vertices) &&
+      emitter.flush_vertices() &&
+      (st.options.kind == EngineKind::fast ? emit_layer_fast(st, lo, hi, height_, emitter)
+                                           : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
+      emitter.flush_polygons();
+  return ok ? Status::ok : emitter.status();
+}
+
 Status Engine::push_slice(const SliceView& slice) {
   if (failure_ != Status::ok) return failure_;
-  const std::size_t bytes = sample_bytes(slice.type);
-  if (!slice.samples || slice.row_stride_bytes < std::size_t{slice.width} * bytes ||
-      reinterpret_cast<std::uintptr_t>(slice.samples) % bytes != 0 || slice.row_stride_bytes % bytes != 0)
-    return Status::invalid_argument;  // misaligned samples would be read out of type
+  const bool known_type = slice.type == SampleType::u8 || slice.type == SampleType::u16 ||
+                          slice.type == SampleType::i16 || slice.type == SampleType::f32;
+  if (!slice.samples || !known_type ||
+      slice.row_stride_bytes < std::size_t{slice.width} * sample_bytes(slice.type))
+    return Status::invalid_argument;
   if (slice.width != width_ || slice.height != height_) return Status::slice_size_mismatch;
   if (counters_.slices >= 0xFFFFFFFFu) return Status::invalid_argument;
 
@@ -429,14 +446,7 @@ Status Engine::push_slice(const SliceView& slice) {
   if (st.options.kind == EngineKind::literal)
     st.literal.add_slice(st.inner[lo], st.inner[hi], st.row_words);
 
-  Emitter emitter(st, counters_);
-  const bool ok =
-      emit_vertices(st, hi, z, height_, true, emitter, counters_.vertices) &&
-      emitter.flush_vertices() &&
-      (st.options.kind == EngineKind::fast ? emit_layer_fast(st, lo, hi, height_, emitter)
-                                           : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
-      emitter.flush_polygons();
-  if (!ok) return fail(emitter.status());
+  if (const Status status = emit_layer(st, z, true); status != Status::ok) return fail(status);
   if (st.options.kind == EngineKind::literal) st.literal.advance();
   ++counters_.slices;
   return Status::ok;
@@ -448,16 +458,9 @@ Status Engine::finish() {
   if (counters_.slices > 0) {
     // The layer between the last slice and the all-outer slice beyond it.
     const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
-    const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
+    const int hi = static_cast<int>(z & 1);
     std::memset(st.inner[hi], 0, std::size_t{height_} * st.row_words * sizeof(std::uint64_t));
-    Emitter emitter(st, counters_);
-    const bool ok =
-        emit_vertices(st, hi, z, height_, false, emitter, counters_.vertices) &&
-        emitter.flush_vertices() &&
-        (st.options.kind == EngineKind::fast ? emit_layer_fast(st, lo, hi, height_, emitter)
-                                             : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
-        emitter.flush_polygons();
-    if (!ok) return fail(emitter.status());
+    if (const Status status = emit_layer(st, z, false); status != Status::ok) return fail(status);
   }
   failure_ = Status::already_finished;
   return Status::ok;

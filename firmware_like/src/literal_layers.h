@@ -14,8 +14,9 @@ namespace mvox {
 
 class LiteralLayers {
  public:
-  static std::size_t bytes(std::uint32_t width, std::uint32_t height) {
-    return 2 * cubes_per_layer(width, height) * sizeof(CubeSurface);
+  // Workspace bytes for slices of width x height (64-bit: the caller checks it fits).
+  static std::uint64_t bytes(std::uint32_t width, std::uint32_t height) {
+    return 2 * (std::uint64_t{width} + 1) * (std::uint64_t{height} + 1) * sizeof(CubeSurface);
   }
 
   // `storage` holds bytes(width, height) bytes; cleared here.

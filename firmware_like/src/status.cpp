@@ -7,7 +7,7 @@ const char* status_message(Status status) {
   switch (status) {
     case Status::ok: return "ok";
     case Status::invalid_argument: return "invalid argument";
-    case Status::workspace_misaligned: return "workspace not aligned to 16 bytes";
+    case Status::workspace_misaligned: return "workspace not aligned to 8 bytes";
     case Status::workspace_too_small: return "workspace too small";
     case Status::not_initialised: return "engine not initialised";
     case Status::slice_size_mismatch: return "slice size differs from the first slice";

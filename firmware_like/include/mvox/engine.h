@@ -3,8 +3,8 @@
 // layer, to a PolygonSink. All memory is the caller's workspace, sized by
 // engine_workspace_bytes(); nothing is allocated after init().
 //
-//   std::vector<std::max_align_t> memory(engine_workspace_bytes(w, h, options) /
-//                                        sizeof(std::max_align_t) + 1);
+//   const std::size_t bytes = engine_workspace_bytes(w, h, options);  // 0: refused
+//   std::vector<std::uint64_t> memory(bytes / sizeof(std::uint64_t) + 1);
 //   Engine engine;
 //   check(engine.init(memory.data(), bytes, w, h, threshold, options, &sink));
 //   for (each slice) check(engine.push_slice(slice));
@@ -22,8 +22,9 @@ namespace detail {
 struct EngineState;  // pointers into the workspace, defined in engine.cpp
 }
 
-// Workspace pointers must be aligned to this (malloc and std::max_align_t storage are).
-constexpr std::size_t kWorkspaceAlignment = 16;
+// Workspace pointers must be aligned to this: the engine's widest type is a 64-bit word.
+// malloc and new return at least this on every platform mvox targets.
+constexpr std::size_t kWorkspaceAlignment = alignof(std::uint64_t);
 
 // How the polygons of each 2x2x2 cube are found. Both give identical output.
 enum class EngineKind : std::uint8_t {
@@ -72,15 +73,17 @@ class Engine {
 
   // Prepares the engine over `workspace` (borrowed; must outlive the engine and hold at least
   // engine_workspace_bytes(width, height, options) bytes aligned to kWorkspaceAlignment).
-  // A voxel is inner when its sample is >= threshold; NaN samples are outer. `sink` is borrowed
-  // and must outlive the engine. May be called again to start a new volume.
+  // A voxel is inner when its sample is >= threshold; NaN samples are outer; a NaN threshold is
+  // invalid_argument. `sink` is borrowed and must outlive the engine. May be called again to
+  // start a new volume.
   Status init(void* workspace, std::size_t workspace_bytes, std::uint32_t width,
               std::uint32_t height, double threshold, const EngineOptions& options,
               PolygonSink* sink);
 
   // Classifies the next slice (z = number of slices pushed so far) and emits every vertex and
-  // polygon that this slice completes. `slice.samples` is only read during the call.
-  // Returns sink_refused (and stays failed) when the sink refuses a batch.
+  // polygon that this slice completes. `slice.samples` is only read during the call, and need
+  // not be aligned. A slice of the wrong size or type is refused and changes nothing. After
+  // sink_refused or vertex_index_overflow the engine stays failed: every later call returns it.
   Status push_slice(const SliceView& slice);
 
   // Closes the volume: the layer above the last slice (outside voxels are outer) is emitted.
@@ -92,6 +95,7 @@ class Engine {
 
  private:
   Status fail(Status status);
+  Status emit_layer(detail::EngineState& state, std::uint32_t z, bool real_slice);
 
   detail::EngineState* state_ = nullptr;
   Status failure_ = Status::not_initialised;

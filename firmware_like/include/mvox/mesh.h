@@ -7,6 +7,10 @@ namespace mvox {
 // A polygon has 3 to 7 vertices (the loops a 2x2x2 cube can hold; DESIGN.md section 4).
 constexpr int kMaxPolygonVertices = 7;
 
+// At most this many vertices per mesh: their indices 0 .. 2^31 - 1 fit the signed 32-bit
+// integers that PLY and most mesh consumers index with.
+constexpr std::uint64_t kMaxVertexCount = std::uint64_t{1} << 31;
+
 // Axis of the voxel pair a vertex sits between: x, y or z neighbours.
 enum class Axis : std::uint8_t { x = 0, y = 1, z = 2 };
 

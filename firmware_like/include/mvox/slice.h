@@ -16,8 +16,8 @@ const char* sample_type_name(SampleType type);  // "u8", "u16", "i16", "f32"
 
 // A borrowed view of width x height samples, row y starting at
 // `static_cast<const char*>(samples) + y * row_stride_bytes`.
-// `samples` must stay valid until the call that receives the view returns. Samples are read as
-// their type, so `samples` and `row_stride_bytes` must be multiples of sample_bytes(type).
+// `samples` must stay valid until the call that receives the view returns. Neither `samples`
+// nor `row_stride_bytes` need be aligned: the engine loads samples byte-wise.
 struct SliceView {
   const void* samples = nullptr;
   std::uint32_t width = 0;

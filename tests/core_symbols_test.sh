@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The core's promises, checked on the built library: it may call nothing but a few C library
+# functions. Any allocation (malloc, operator new), exception (__cxa_throw, personality
+# routines), RTTI (typeinfo) or I/O symbol among its undefined references fails this test.
+#   tests/core_symbols_test.sh path/to/libmvox_core.a
+set -euo pipefail
+library=$1
+allowed='^(abort|memset|memcpy|memmove|nextafterf|__popcountdi2|__stack_chk_fail)$'
+# The core's own symbols and sanitizer hooks (MVOX_SANITIZE builds) are not outside calls.
+undefined=$(nm -u --format=posix "$library" | awk 'NF >= 2 {print $1}' | sort -u |
+  grep -vE '^_ZN4mvox|^_ZNK4mvox|^__(asan|ubsan|sanitizer|lsan)_' || true)
+unexpected=$(echo "$undefined" | grep -vE "$allowed" | grep -v '^$' || true)
+if [ -n "$unexpected" ]; then
+  echo "libmvox_core.a references symbols outside the core's allowance:"
+  echo "$unexpected"
+  exit 1
+fi
+echo "libmvox_core.a references only: $(echo $undefined)"
