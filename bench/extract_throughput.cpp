@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "counting_sink.h"
 #include "error.h"
 #include "mesh_job.h"
 #include "paper_datasets.h"
 #include "pipeline.h"
 #include "ply_writer.h"
-#include "counting_sink.h"
 #include "workspace_buffer.h"
 
 namespace mvox::bench {
@@ -80,7 +80,8 @@ double extract_end_to_end(const PaperDataset& dataset, EngineKind kind, const st
   EngineOptions options;
   options.kind = kind;
   PlyWriter writer(output);
-  const PipelineResult result = run_pipeline(*source, dataset.threshold, options, writer, dataset.name);
+  const PipelineResult result =
+      run_pipeline(*source, dataset.threshold, options, writer, dataset.name);
   if (result.status != Status::ok) return -1;
   writer.finish();
   return std::chrono::duration<double>(Clock::now() - start).count();

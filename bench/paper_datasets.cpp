@@ -8,11 +8,20 @@ namespace mvox::bench {
 
 std::vector<PaperDataset> paper_datasets(const std::string& root) {
   const std::vector<PaperDataset> all = {
-      {"CThead", {root + "/cthead/CThead.*"}, "256x256:u16be", 600,
+      {"CThead",
+       {root + "/cthead/CThead.*"},
+       "256x256:u16be",
+       600,
        "skin/soft tissue against air (the issue's threshold)"},
-      {"engine", {root + "/engine/engine_256x256x128_uint8.raw"}, "256x256x128:u8", 100,
+      {"engine",
+       {root + "/engine/engine_256x256x128_uint8.raw"},
+       "256x256x128:u8",
+       100,
        "between the air peak (0-15) and the metal block (128-159)"},
-      {"MRbrain", {root + "/mrbrain8bit/mrbrain-8bit*.png"}, "", 50,
+      {"MRbrain",
+       {root + "/mrbrain8bit/mrbrain-8bit*.png"},
+       "",
+       50,
        "between the background (0-15) and head tissue (16-95)"},
   };
   std::vector<PaperDataset> present;

@@ -12,9 +12,9 @@
 namespace mvox::bench {
 
 struct PaperDataset {
-  std::string name;                // "CThead"
+  std::string name;                 // "CThead"
   std::vector<std::string> inputs;  // as given to `mvox extract`
-  std::string raw_spec;            // "" for image stacks
+  std::string raw_spec;             // "" for image stacks
   double threshold = 0;
   std::string why_threshold;
 };

@@ -57,19 +57,13 @@ ScanOptions default_scan_options(SampleType type) {
   ScanOptions options;
   options.type = type;
   switch (type) {
-    case SampleType::u8:
-      options.scale = 255;
-      break;
-    case SampleType::u16:
-      options.scale = 4095;
-      break;
+    case SampleType::u8: options.scale = 255; break;
+    case SampleType::u16: options.scale = 4095; break;
     case SampleType::i16:
       options.offset = -1024;
       options.scale = 3071;
       break;
-    case SampleType::f32:
-      options.scale = 1;
-      break;
+    case SampleType::f32: options.scale = 1; break;
   }
   return options;
 }
@@ -77,14 +71,10 @@ ScanOptions default_scan_options(SampleType type) {
 double sample_value(double density, const ScanOptions& options) {
   const double value = options.offset + options.scale * density;
   switch (options.type) {
-    case SampleType::u8:
-      return clamp_round<std::uint8_t>(value);
-    case SampleType::u16:
-      return clamp_round<std::uint16_t>(value);
-    case SampleType::i16:
-      return clamp_round<std::int16_t>(value);
-    case SampleType::f32:
-      return static_cast<float>(value);
+    case SampleType::u8: return clamp_round<std::uint8_t>(value);
+    case SampleType::u16: return clamp_round<std::uint16_t>(value);
+    case SampleType::i16: return clamp_round<std::int16_t>(value);
+    case SampleType::f32: return static_cast<float>(value);
   }
   return value;
 }
@@ -95,14 +85,10 @@ double sample_threshold(double density_threshold, const ScanOptions& options) {
   // at most the sample of density 1. Rounding to nearest would let a small t fall back to o.
   const double value = options.offset + options.scale * density_threshold;
   switch (options.type) {
-    case SampleType::u8:
-      return clamp_ceil<std::uint8_t>(value);
-    case SampleType::u16:
-      return clamp_ceil<std::uint16_t>(value);
-    case SampleType::i16:
-      return clamp_ceil<std::int16_t>(value);
-    case SampleType::f32:
-      return static_cast<float>(value);
+    case SampleType::u8: return clamp_ceil<std::uint8_t>(value);
+    case SampleType::u16: return clamp_ceil<std::uint16_t>(value);
+    case SampleType::i16: return clamp_ceil<std::int16_t>(value);
+    case SampleType::f32: return static_cast<float>(value);
   }
   return value;
 }
@@ -132,18 +118,10 @@ bool SimulatedScanner::next_slice(SliceView* slice) {
   if (next_z_ >= info_.depth) return false;
   unsigned char* out = slice_.data();
   switch (options_.type) {
-    case SampleType::u8:
-      fill_slice<std::uint8_t>(*phantom_, next_z_, options_, out);
-      break;
-    case SampleType::u16:
-      fill_slice<std::uint16_t>(*phantom_, next_z_, options_, out);
-      break;
-    case SampleType::i16:
-      fill_slice<std::int16_t>(*phantom_, next_z_, options_, out);
-      break;
-    case SampleType::f32:
-      fill_slice<float>(*phantom_, next_z_, options_, out);
-      break;
+    case SampleType::u8: fill_slice<std::uint8_t>(*phantom_, next_z_, options_, out); break;
+    case SampleType::u16: fill_slice<std::uint16_t>(*phantom_, next_z_, options_, out); break;
+    case SampleType::i16: fill_slice<std::int16_t>(*phantom_, next_z_, options_, out); break;
+    case SampleType::f32: fill_slice<float>(*phantom_, next_z_, options_, out); break;
   }
   ++next_z_;
   slice->samples = slice_.data();

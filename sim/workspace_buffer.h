@@ -11,7 +11,8 @@ namespace mvox {
 class WorkspaceBuffer {
  public:
   explicit WorkspaceBuffer(std::size_t bytes)
-      : blocks_(new Block[bytes / sizeof(Block) + 1]), bytes_((bytes / sizeof(Block) + 1) * sizeof(Block)) {}
+      : blocks_(new Block[bytes / sizeof(Block) + 1]),
+        bytes_((bytes / sizeof(Block) + 1) * sizeof(Block)) {}
   void* data() { return blocks_.get(); }
   std::size_t bytes() const { return bytes_; }
 

@@ -45,8 +45,9 @@ EngineOptions EngineChoice::options() const {
 void add_ply_options(CLI::App& command, PlyChoice& choice) {
   command.add_flag("--ascii", choice.ascii, "Write ASCII PLY instead of binary little-endian");
   command
-      .add_option("--spacing", choice.spacing,
-                  "Voxel size along x,y,z, e.g. 1,1,2 for CThead (default: from the input, else 1,1,1)")
+      .add_option(
+          "--spacing", choice.spacing,
+          "Voxel size along x,y,z, e.g. 1,1,2 for CThead (default: from the input, else 1,1,1)")
       ->delimiter(',')
       ->expected(3)
       ->check(CLI::PositiveNumber);

@@ -38,7 +38,8 @@ void run_demo(const DemoArguments& args) {
   job.ply = ply_writer_options(args.ply, scanner.info().spacing, scanner.info().origin,
                                "mvox demo: " + args.phantom + " phantom");
   if (!args.quiet)
-    std::fprintf(stderr, "mvox demo: %s phantom, %ux%ux%u voxels (8-bit), streamed slice by slice; "
+    std::fprintf(stderr,
+                 "mvox demo: %s phantom, %ux%ux%u voxels (8-bit), streamed slice by slice; "
                  "surface at density >= %g (sample >= %g)\n",
                  args.phantom.c_str(), args.size, args.size, args.size, density_threshold,
                  job.threshold);

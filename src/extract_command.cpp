@@ -26,7 +26,8 @@ struct ExtractArguments {
 
 std::string input_label(const std::vector<std::string>& inputs) {
   if (inputs.size() == 1) return inputs[0];
-  return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) + " files)";
+  return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) +
+         " files)";
 }
 
 void run_extract(const ExtractArguments& args) {
@@ -48,7 +49,8 @@ void run_extract(const ExtractArguments& args) {
   job.quiet = args.quiet;
   char comment[160];
   std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
-                args.threshold, engine_kind_name(job.engine.kind), surface_rule_name(job.engine.rule));
+                args.threshold, engine_kind_name(job.engine.kind),
+                surface_rule_name(job.engine.rule));
   job.ply = ply_writer_options(args.ply, info.spacing, info.origin, comment);
   run_mesh_job(*source, job);
 }
@@ -60,9 +62,10 @@ void add_extract_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "extract",
       "Extract the surface at threshold D (inner voxels: value >= D) and write it as PLY");
-  command->add_option("INPUT", args->inputs,
-                      "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images, raw slice "
-                      "files, or one raw volume file (with --raw)")
+  command
+      ->add_option("INPUT", args->inputs,
+                   "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images, raw slice "
+                   "files, or one raw volume file (with --raw)")
       ->required();
   command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
       ->required()

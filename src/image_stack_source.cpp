@@ -15,22 +15,14 @@ namespace {
 // Human wording of an OpenCV depth for messages.
 std::string depth_text(int cv_depth) {
   switch (cv_depth) {
-    case CV_8U:
-      return "8-bit unsigned";
-    case CV_8S:
-      return "8-bit signed";
-    case CV_16U:
-      return "16-bit unsigned";
-    case CV_16S:
-      return "16-bit signed";
-    case CV_32S:
-      return "32-bit integer";
-    case CV_32F:
-      return "32-bit float";
-    case CV_64F:
-      return "64-bit float";
-    default:
-      return "OpenCV depth " + std::to_string(cv_depth);
+    case CV_8U: return "8-bit unsigned";
+    case CV_8S: return "8-bit signed";
+    case CV_16U: return "16-bit unsigned";
+    case CV_16S: return "16-bit signed";
+    case CV_32S: return "32-bit integer";
+    case CV_32F: return "32-bit float";
+    case CV_64F: return "64-bit float";
+    default: return "OpenCV depth " + std::to_string(cv_depth);
   }
 }
 
@@ -40,30 +32,19 @@ std::string size_text(int width, int height) {
 
 bool to_sample_type(int cv_depth, SampleType* type) {
   switch (cv_depth) {
-    case CV_8U:
-      *type = SampleType::u8;
-      return true;
-    case CV_16U:
-      *type = SampleType::u16;
-      return true;
-    case CV_16S:
-      *type = SampleType::i16;
-      return true;
-    default:
-      return false;
+    case CV_8U: *type = SampleType::u8; return true;
+    case CV_16U: *type = SampleType::u16; return true;
+    case CV_16S: *type = SampleType::i16; return true;
+    default: return false;
   }
 }
 
 int to_cv_depth(SampleType type) {
   switch (type) {
-    case SampleType::u8:
-      return CV_8U;
-    case SampleType::u16:
-      return CV_16U;
-    case SampleType::i16:
-      return CV_16S;
-    case SampleType::f32:
-      return CV_32F;
+    case SampleType::u8: return CV_8U;
+    case SampleType::u16: return CV_16U;
+    case SampleType::i16: return CV_16S;
+    case SampleType::f32: return CV_32F;
   }
   return -1;
 }

@@ -33,20 +33,23 @@ void print_summary(const RunReport& r) {
   const EngineCounters& c = r.result.counters;
   const PhaseTimes& t = r.result.times;
   const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
-  std::fprintf(stderr, "%s: %s vertices, %s polygons (", r.output.c_str(), grouped(c.vertices).c_str(),
-               grouped(c.polygons).c_str());
+  std::fprintf(stderr, "%s: %s vertices, %s polygons (", r.output.c_str(),
+               grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
   for (int size = 3; size <= kMaxPolygonVertices; ++size)
     std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
                  grouped(c.polygons_by_size[size]).c_str());
-  std::fprintf(stderr, ")\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
-               "(%.0f Mvoxel/s), write %.3f s\n  peak memory %.1f MiB, of which %.1f MiB for this job "
-               "(the rest is libraries)\n",
-               r.volume.width, r.volume.height, static_cast<unsigned long long>(c.slices),
-               sample_type_name(r.volume.type), r.threshold, t.read_s, t.extract_s,
-               t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s,
-               static_cast<double>(r.peak_memory_bytes) / (1 << 20),
-               static_cast<double>(r.peak_memory_bytes - std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
-                   (1 << 20));
+  std::fprintf(
+      stderr,
+      ")\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
+      "(%.0f Mvoxel/s), write %.3f s\n  peak memory %.1f MiB, of which %.1f MiB for this job "
+      "(the rest is libraries)\n",
+      r.volume.width, r.volume.height, static_cast<unsigned long long>(c.slices),
+      sample_type_name(r.volume.type), r.threshold, t.read_s, t.extract_s,
+      t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s,
+      static_cast<double>(r.peak_memory_bytes) / (1 << 20),
+      static_cast<double>(r.peak_memory_bytes -
+                          std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
+          (1 << 20));
 }
 
 }  // namespace
@@ -77,8 +80,8 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   }
   if (report.result.status == Status::sink_refused && writer.error()) throw *writer.error();
   if (report.result.status != Status::ok)
-    throw Error(job.input_label, std::string("extraction failed: ") +
-                                     status_message(report.result.status));
+    throw Error(job.input_label,
+                std::string("extraction failed: ") + status_message(report.result.status));
 
   const auto finish_start = std::chrono::steady_clock::now();
   writer.complete();

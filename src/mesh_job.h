@@ -14,10 +14,10 @@ struct MeshJob {
   std::string input_label;  // for messages and the report: the input as the user named it
   double threshold = 0;     // in sample units
   EngineOptions engine;
-  std::string output;       // PLY path, "-" for standard output
+  std::string output;  // PLY path, "-" for standard output
   PlyWriterOptions ply;
-  std::string stats_path;   // empty: no report
-  bool quiet = false;       // no progress line, no summary
+  std::string stats_path;    // empty: no report
+  bool quiet = false;        // no progress line, no summary
   double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
 };
 

@@ -80,9 +80,11 @@ void run_phantom(const PhantomArguments& args) {
   staging.path.clear();
   if (!args.quiet) {
     const double threshold = sim::sample_threshold(sim::default_density_threshold(args.name), scan);
-    std::fprintf(stderr, "wrote %u slices of %ux%u %d-bit %s to %s\nextract with: mvox extract %s -t %g -o %s.ply\n",
-                 grid.depth, grid.width, grid.height, args.bits, args.format.c_str(),
-                 args.directory.c_str(), args.directory.c_str(), threshold, args.name.c_str());
+    std::fprintf(
+        stderr,
+        "wrote %u slices of %ux%u %d-bit %s to %s\nextract with: mvox extract %s -t %g -o %s.ply\n",
+        grid.depth, grid.width, grid.height, args.bits, args.format.c_str(), args.directory.c_str(),
+        args.directory.c_str(), threshold, args.name.c_str());
   }
 }
 

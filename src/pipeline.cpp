@@ -69,7 +69,8 @@ PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineO
   Engine engine;
   const Status init = engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
                                   threshold, options, &timed_sink);
-  if (init != Status::ok) throw Error(input_label, std::string("cannot start: ") + status_message(init));
+  if (init != Status::ok)
+    throw Error(input_label, std::string("cannot start: ") + status_message(init));
 
   TimedSource timed_source(source);
   const auto start = Clock::now();

@@ -49,17 +49,13 @@ constexpr TypeName kTypeNames[] = {
 std::size_t scalar_bytes(ScalarType type) {
   switch (type) {
     case ScalarType::int8:
-    case ScalarType::uint8:
-      return 1;
+    case ScalarType::uint8: return 1;
     case ScalarType::int16:
-    case ScalarType::uint16:
-      return 2;
+    case ScalarType::uint16: return 2;
     case ScalarType::int32:
     case ScalarType::uint32:
-    case ScalarType::float32:
-      return 4;
-    case ScalarType::float64:
-      return 8;
+    case ScalarType::float32: return 4;
+    case ScalarType::float64: return 8;
   }
   return 8;
 }
@@ -344,21 +340,14 @@ class BinaryCursor {
 
   std::int64_t read_integer(ScalarType type) {
     switch (type) {
-      case ScalarType::int8:
-        return sign_extend(load(1), 8);
-      case ScalarType::uint8:
-        return static_cast<std::int64_t>(load(1));
-      case ScalarType::int16:
-        return sign_extend(load(2), 16);
-      case ScalarType::uint16:
-        return static_cast<std::int64_t>(load(2));
-      case ScalarType::int32:
-        return sign_extend(load(4), 32);
-      case ScalarType::uint32:
-        return static_cast<std::int64_t>(load(4));
+      case ScalarType::int8: return sign_extend(load(1), 8);
+      case ScalarType::uint8: return static_cast<std::int64_t>(load(1));
+      case ScalarType::int16: return sign_extend(load(2), 16);
+      case ScalarType::uint16: return static_cast<std::int64_t>(load(2));
+      case ScalarType::int32: return sign_extend(load(4), 32);
+      case ScalarType::uint32: return static_cast<std::int64_t>(load(4));
       case ScalarType::float32:
-      case ScalarType::float64:
-        break;  // refused by the header checks
+      case ScalarType::float64: break;  // refused by the header checks
     }
     position_.fail("internal error: integer read of a floating-point property");
   }
@@ -444,27 +433,14 @@ class AsciiCursor {
     std::int64_t low = 0;
     std::int64_t high = 0;
     switch (type) {
-      case ScalarType::int8:
-        low = INT8_MIN, high = INT8_MAX;
-        break;
-      case ScalarType::uint8:
-        high = UINT8_MAX;
-        break;
-      case ScalarType::int16:
-        low = INT16_MIN, high = INT16_MAX;
-        break;
-      case ScalarType::uint16:
-        high = UINT16_MAX;
-        break;
-      case ScalarType::int32:
-        low = INT32_MIN, high = INT32_MAX;
-        break;
-      case ScalarType::uint32:
-        high = UINT32_MAX;
-        break;
+      case ScalarType::int8: low = INT8_MIN, high = INT8_MAX; break;
+      case ScalarType::uint8: high = UINT8_MAX; break;
+      case ScalarType::int16: low = INT16_MIN, high = INT16_MAX; break;
+      case ScalarType::uint16: high = UINT16_MAX; break;
+      case ScalarType::int32: low = INT32_MIN, high = INT32_MAX; break;
+      case ScalarType::uint32: high = UINT32_MAX; break;
       case ScalarType::float32:
-      case ScalarType::float64:
-        fail("internal error: integer read of a floating-point property");
+      case ScalarType::float64: fail("internal error: integer read of a floating-point property");
     }
     if (value < low || value > high) fail(quoted(text) + " is out of range for its type");
     return value;

@@ -19,8 +19,11 @@ std::string clock_text(double seconds) {
 bool ProgressLine::stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 
 ProgressLine::ProgressLine(std::string label, std::uint32_t total_slices, bool enabled)
-    : label_(std::move(label)), total_(total_slices), enabled_(enabled),
-      start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+    : label_(std::move(label)),
+      total_(total_slices),
+      enabled_(enabled),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_) {}
 
 ProgressLine::~ProgressLine() { finish(); }
 

@@ -24,8 +24,9 @@ void write_slice_image(const std::string& path, const SliceView& slice) {
   } catch (const cv::Exception&) {
     ok = false;
   }
-  if (!ok) throw Error(path, "cannot encode a " + std::string(sample_type_name(slice.type)) +
-                                 " image with extension '" + extension + "'");
+  if (!ok)
+    throw Error(path, "cannot encode a " + std::string(sample_type_name(slice.type)) +
+                          " image with extension '" + extension + "'");
   OutputFile file(path);
   file.write(encoded.data(), encoded.size());
   file.commit();

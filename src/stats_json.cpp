@@ -45,7 +45,8 @@ std::string run_report_json(const RunReport& r) {
   out << "{\n"
       << "  \"input\": " << json_string(r.input) << ",\n"
       << "  \"output\": " << json_string(r.output) << ",\n"
-      << "  \"dimensions\": [" << r.volume.width << ", " << r.volume.height << ", " << c.slices << "],\n"
+      << "  \"dimensions\": [" << r.volume.width << ", " << r.volume.height << ", " << c.slices
+      << "],\n"
       << "  \"sample_type\": " << json_string(sample_type_name(r.volume.type)) << ",\n"
       << "  \"spacing\": [" << number(r.volume.spacing[0]) << ", " << number(r.volume.spacing[1])
       << ", " << number(r.volume.spacing[2]) << "],\n"
@@ -60,16 +61,17 @@ std::string run_report_json(const RunReport& r) {
   for (int size = 3; size <= kMaxPolygonVertices; ++size)
     out << (size > 3 ? ", " : "") << "\"" << size << "\": " << c.polygons_by_size[size];
   out << "},\n"
-      << "  \"time_seconds\": {\"read\": " << number(t.read_s) << ", \"extract\": "
-      << number(t.extract_s) << ", \"write\": " << number(t.write_s) << ", \"total\": "
-      << number(t.total_s) << "},\n"
+      << "  \"time_seconds\": {\"read\": " << number(t.read_s)
+      << ", \"extract\": " << number(t.extract_s) << ", \"write\": " << number(t.write_s)
+      << ", \"total\": " << number(t.total_s) << "},\n"
       << "  \"extract_mvoxels_per_second\": "
       << number(t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0) << ",\n"
       << "  \"engine_workspace_bytes\": " << r.result.workspace_bytes << ",\n"
       << "  \"start_memory_bytes\": " << r.start_memory_bytes << ",\n"
       << "  \"peak_memory_bytes\": " << r.peak_memory_bytes << ",\n"
       << "  \"job_memory_bytes\": "
-      << (r.peak_memory_bytes > r.start_memory_bytes ? r.peak_memory_bytes - r.start_memory_bytes : 0)
+      << (r.peak_memory_bytes > r.start_memory_bytes ? r.peak_memory_bytes - r.start_memory_bytes
+                                                     : 0)
       << "\n"
       << "}\n";
   return out.str();

@@ -88,13 +88,19 @@ TEST(Cli, PhantomStackExtractedFromFilesIsClosedWithTheRightTopology) {
 
 TEST(Cli, LiteralEngineAsciiAndSpacingOptions) {
   ScratchDirectory dir;
-  ASSERT_EQ(run_mvox("phantom blobs -o stack --size 30x26x20 --bits 16 -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_mvox("phantom blobs -o stack --size 30x26x20 --bits 16 -q", dir.path()).exit_code,
+            0);
   const std::string threshold =
       std::to_string(sim::sample_threshold(0.5, sim::default_scan_options(SampleType::u16)));
   ASSERT_EQ(run_mvox("extract stack -t " + threshold + " -o fast.ply -q", dir.path()).exit_code, 0);
-  ASSERT_EQ(run_mvox("extract stack -t " + threshold + " -o literal.ply --engine literal -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(
+      run_mvox("extract stack -t " + threshold + " -o literal.ply --engine literal -q", dir.path())
+          .exit_code,
+      0);
   ASSERT_EQ(run_mvox("extract stack -t " + threshold + " -o ascii.ply --ascii --spacing 1,1,2.5 -q",
-                     dir.path()).exit_code, 0);
+                     dir.path())
+                .exit_code,
+            0);
   const PlyMesh fast = read_ply(dir / "fast.ply");
   const PlyMesh literal = read_ply(dir / "literal.ply");
   const PlyMesh ascii = read_ply(dir / "ascii.ply");
@@ -127,12 +133,15 @@ TEST(Cli, BadInputGivesOneLineNamingTheFileANonZeroExitAndNoOutput) {
   ASSERT_EQ(run_mvox("phantom sphere -o wide --size 14x10x2 -q", dir.path()).exit_code, 0);
   std::filesystem::copy_file(dir / "wide/sphere_0000.png", dir / "stack/sphere_0008.png");
   expect_one_line_error(run_mvox("extract stack -t 128 -o out.ply", dir.path()), "sphere_0008.png");
-  expect_one_line_error(run_mvox("extract missing_dir -t 128 -o out.ply", dir.path()), "missing_dir");
+  expect_one_line_error(run_mvox("extract missing_dir -t 128 -o out.ply", dir.path()),
+                        "missing_dir");
   expect_one_line_error(run_mvox("extract wide -t 128 -o no/such/dir/out.ply", dir.path()),
                         "no/such/dir/out.ply");
-  expect_one_line_error(run_mvox("extract wide -t 128 -o out.ply --raw 3x3:u24", dir.path()), "--raw");
-  expect_one_line_error(run_mvox("extract wide -t 128 -o out.ply --stats no/dir/s.json", dir.path()),
-                        "no/dir/s.json");
+  expect_one_line_error(run_mvox("extract wide -t 128 -o out.ply --raw 3x3:u24", dir.path()),
+                        "--raw");
+  expect_one_line_error(
+      run_mvox("extract wide -t 128 -o out.ply --stats no/dir/s.json", dir.path()),
+      "no/dir/s.json");
   std::ofstream(dir / "short.raw") << "12345";
   expect_one_line_error(run_mvox("extract short.raw --raw 4x4x4:u8 -t 1 -o out.ply", dir.path()),
                         "short.raw");
@@ -151,10 +160,12 @@ TEST(Cli, HelpListsTheCommandsAndOptions) {
   ScratchDirectory dir;
   const auto top = run_mvox("--help", dir.path());
   EXPECT_EQ(top.exit_code, 0);
-  for (const char* word : {"extract", "demo", "phantom"}) EXPECT_NE(top.output.find(word), std::string::npos);
+  for (const char* word : {"extract", "demo", "phantom"})
+    EXPECT_NE(top.output.find(word), std::string::npos);
   const auto extract = run_mvox("extract --help", dir.path());
   EXPECT_EQ(extract.exit_code, 0);
-  for (const char* option : {"--threshold", "--raw", "--engine", "--surface", "--stats", "--ascii", "--spacing"})
+  for (const char* option :
+       {"--threshold", "--raw", "--engine", "--surface", "--stats", "--ascii", "--spacing"})
     EXPECT_NE(extract.output.find(option), std::string::npos) << option;
 }
 

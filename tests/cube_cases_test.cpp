@@ -147,7 +147,8 @@ TEST(CaseTable, PolygonsHaveThreeToSevenVerticesAndUseEachEdgeOnce) {
     // Exactly the edges between an inner and an outer corner carry a vertex.
     int crossing = 0;
     for (int e = 0; e < cube::kEdges; ++e)
-      crossing += (config >> cube::edge_low_corner(e) & 1) != (config >> cube::edge_high_corner(e) & 1);
+      crossing +=
+          (config >> cube::edge_low_corner(e) & 1) != (config >> cube::edge_high_corner(e) & 1);
     EXPECT_EQ(polygons.edge_count, crossing) << "config " << config;
     for (int p = 0; p < polygons.polygon_count; ++p) ++sizes[polygons.polygon_sizes[p]];
   }
@@ -194,9 +195,10 @@ TEST(PaperTable1, DiffersFromTheMergeRulesExactlyInTheConfigurationsTheDocsDescr
   std::set<unsigned> differing;
   for (unsigned config = 0; config < 256; ++config) {
     const CubePolygons &a = merge.cases[config], &b = paper.cases[config];
-    const bool same = a.polygon_count == b.polygon_count && a.edge_count == b.edge_count &&
-                      std::equal(a.polygon_sizes, a.polygon_sizes + a.polygon_count, b.polygon_sizes) &&
-                      std::equal(a.edges, a.edges + a.edge_count, b.edges);
+    const bool same =
+        a.polygon_count == b.polygon_count && a.edge_count == b.edge_count &&
+        std::equal(a.polygon_sizes, a.polygon_sizes + a.polygon_count, b.polygon_sizes) &&
+        std::equal(a.edges, a.edges + a.edge_count, b.edges);
     if (!same) differing.insert(config);
   }
   int edge_pair_plus_far = 0, diagonal_triple = 0, diagonal_pair = 0;
@@ -216,7 +218,8 @@ TEST(PaperTable1, OpensHolesWhereTheMergeRulesGiveAClosedSurface) {
   for (unsigned config = 0; config < 256; ++config) {
     if (!paper_table1_applies(config)) continue;
     const test::BinaryVolume volume = volume_from_bits(2, 2, 2, config);
-    const test::Mesh paper_fast = extract(volume, 1, with(EngineKind::fast, SurfaceRule::paper_table1));
+    const test::Mesh paper_fast =
+        extract(volume, 1, with(EngineKind::fast, SurfaceRule::paper_table1));
     const test::Mesh paper_literal =
         extract(volume, 1, with(EngineKind::literal, SurfaceRule::paper_table1));
     ASSERT_TRUE(test::meshes_identical(paper_fast, paper_literal)) << "config " << config;

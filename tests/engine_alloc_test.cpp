@@ -71,7 +71,8 @@ TEST(EngineAllocation, NothingIsAllocatedWhileSlicesArePushedOrTheVolumeFinished
       test::Workspace workspace(engine_workspace_bytes(w, h, options));
       CountingSink sink;  // allocates nothing itself: any count is the engine's
       Engine engine;
-      ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), w, h, 128, options, &sink), Status::ok);
+      ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), w, h, 128, options, &sink),
+                Status::ok);
       std::size_t allocations = 0;
       {
         AllocationWindow window;

@@ -58,7 +58,8 @@ TEST(EngineWorkspace, EverySizeBelowTheBoundIsRefusedAndTheBoundItselfWorks) {
         ASSERT_EQ(engine.init(workspace.data(), bytes, size[0], size[1], 1, options, &sink),
                   Status::workspace_too_small)
             << size[0] << "x" << size[1] << " with " << bytes << " of " << bound << " bytes";
-      ASSERT_EQ(engine.init(workspace.data(), bound, size[0], size[1], 1, options, &sink), Status::ok);
+      ASSERT_EQ(engine.init(workspace.data(), bound, size[0], size[1], 1, options, &sink),
+                Status::ok);
       // The bound is enough for a real run, not just for init(): a full slice then finish.
       std::vector<std::uint8_t> full(std::size_t{size[0]} * size[1], 1);
       SliceView slice{full.data(), size[0], size[1], size[0], SampleType::u8};
@@ -122,8 +123,9 @@ TEST(EngineWorkspace, InvalidArgumentsAreRefused) {
   EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), 4, 4, std::nan(""), options, &sink),
             Status::invalid_argument);
   char* misaligned = static_cast<char*>(workspace.data()) + kWorkspaceAlignment / 2;
-  EXPECT_EQ(engine.init(misaligned, workspace.bytes() - kWorkspaceAlignment, 4, 4, 1, options, &sink),
-            Status::workspace_misaligned);
+  EXPECT_EQ(
+      engine.init(misaligned, workspace.bytes() - kWorkspaceAlignment, 4, 4, 1, options, &sink),
+      Status::workspace_misaligned);
   options.polygons_per_batch = 0;
   EXPECT_EQ(engine_workspace_bytes(4, 4, options), 0u);
   EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), 4, 4, 1, options, &sink),
@@ -165,7 +167,8 @@ TEST(EngineLifecycle, CallsOutOfOrderAndWrongSlicesAreRefusedWithAStatus) {
 
   // init() starts a new volume on the same workspace.
   CountingSink second;
-  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 3, 2, 1, options, &second), Status::ok);
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 3, 2, 1, options, &second),
+            Status::ok);
   EXPECT_EQ(engine.push_slice(slice_of(volume, 0)), Status::ok);
   EXPECT_EQ(engine.push_slice(slice_of(volume, 1)), Status::ok);
   EXPECT_EQ(engine.finish(), Status::ok);
@@ -183,7 +186,8 @@ TEST(EngineLifecycle, ASinkThatRefusesStopsTheEngineAndReceivesNothingMore) {
     CountingSink sink;
     sink.refuse_batch = refuse_at;
     Engine engine;
-    ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 20, 17, 128, options, &sink), Status::ok);
+    ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 20, 17, 128, options, &sink),
+              Status::ok);
     Status last = Status::ok;
     for (std::uint32_t z = 0; z < 9 && last == Status::ok; ++z) {
       SliceView slice{volume.samples.data() + z * 20 * 17, 20, 17, 20, SampleType::u8};
@@ -227,8 +231,8 @@ TEST(EngineSamples, AVoxelIsInnerExactlyWhenItsSampleIsAtLeastTheThreshold) {
   EXPECT_EQ(count_inner(bytes, 100), 2u);    // equal counts as inner
   EXPECT_EQ(count_inner(bytes, 100.5), 1u);  // fractional thresholds round up for integers
   EXPECT_EQ(count_inner(bytes, 99.0001), 2u);
-  EXPECT_EQ(count_inner(bytes, -5), 3u);     // below the type's range: everything inner
-  EXPECT_EQ(count_inner(bytes, 300), 0u);    // above: nothing
+  EXPECT_EQ(count_inner(bytes, -5), 3u);   // below the type's range: everything inner
+  EXPECT_EQ(count_inner(bytes, 300), 0u);  // above: nothing
   test::Volume<std::int16_t> signed_samples(3, 1, 1);
   signed_samples.samples = {-1025, -1024, 32767};
   EXPECT_EQ(count_inner(signed_samples, -1024), 2u);
@@ -264,15 +268,18 @@ TEST(EngineOutput, BatchSizesAndRowStridesDoNotChangeTheOutput) {
   std::vector<std::uint8_t> padded(std::size_t{stride} * 9 * 8, 255);
   for (std::uint32_t z = 0; z < 8; ++z)
     for (std::uint32_t y = 0; y < 9; ++y)
-      std::memcpy(&padded[(std::size_t{z} * 9 + y) * stride], &volume.samples[(z * 9 + y) * 70], 70);
+      std::memcpy(&padded[(std::size_t{z} * 9 + y) * stride], &volume.samples[(z * 9 + y) * 70],
+                  70);
   test::MeshCapture capture;
   const EngineOptions options;
   Workspace workspace(engine_workspace_bytes(70, 9, options));
   Engine engine;
-  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 70, 9, 128, options, &capture), Status::ok);
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 70, 9, 128, options, &capture),
+            Status::ok);
   for (std::uint32_t z = 0; z < 8; ++z)
-    ASSERT_EQ(engine.push_slice({&padded[std::size_t{z} * 9 * stride], 70, 9, stride, SampleType::u8}),
-              Status::ok);
+    ASSERT_EQ(
+        engine.push_slice({&padded[std::size_t{z} * 9 * stride], 70, 9, stride, SampleType::u8}),
+        Status::ok);
   ASSERT_EQ(engine.finish(), Status::ok);
   EXPECT_TRUE(test::meshes_identical(reference, capture.mesh));
 }
@@ -292,7 +299,8 @@ TEST(EngineOutput, MisalignedSamplesAndStridesGiveTheSameSurface) {
   const EngineOptions options;
   Workspace workspace(engine_workspace_bytes(13, 11, options));
   Engine engine;
-  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 13, 11, 300, options, &capture), Status::ok);
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 13, 11, 300, options, &capture),
+            Status::ok);
   for (std::uint32_t z = 0; z < 7; ++z)
     ASSERT_EQ(engine.push_slice({&buffer[1 + z * 11 * stride], 13, 11, stride, SampleType::u16}),
               Status::ok);
@@ -304,12 +312,14 @@ TEST(EngineOutput, MisalignedSamplesAndStridesGiveTheSameSurface) {
 // words matter; both engines, against the vertex oracle, closed and consistently wound.
 TEST(EngineOutput, WidthsAroundWordBoundariesAreExact) {
   std::uint32_t seed = 1;
-  for (std::uint32_t width : {1u, 2u, 61u, 62u, 63u, 64u, 65u, 66u, 126u, 127u, 128u, 129u, 130u, 191u}) {
+  for (std::uint32_t width :
+       {1u, 2u, 61u, 62u, 63u, 64u, 65u, 66u, 126u, 127u, 128u, 129u, 130u, 191u}) {
     for (std::uint32_t height : {1u, 2u, 5u}) {
       for (int density : {40, 128, 220}) {
         auto noise = noise_volume(width, height, 3, seed++);
         BinaryVolume binary(width, height, 3);
-        for (std::size_t i = 0; i < noise.samples.size(); ++i) binary.samples[i] = noise.samples[i] < density;
+        for (std::size_t i = 0; i < noise.samples.size(); ++i)
+          binary.samples[i] = noise.samples[i] < density;
         const std::string label = std::to_string(width) + "x" + std::to_string(height) +
                                   " density " + std::to_string(density);
         const Mesh fast = extract(binary, 1);

@@ -27,7 +27,8 @@ test::BinaryVolume binary_volume(const sim::Phantom& phantom, double density_thr
   const sim::Grid grid = phantom.grid();
   test::BinaryVolume volume(grid.width, grid.height, grid.depth);
   const std::vector<float> densities = sim::sample_volume(phantom);
-  for (std::size_t i = 0; i < densities.size(); ++i) volume.samples[i] = densities[i] >= density_threshold;
+  for (std::size_t i = 0; i < densities.size(); ++i)
+    volume.samples[i] = densities[i] >= density_threshold;
   return volume;
 }
 
@@ -166,9 +167,9 @@ TEST(PhantomSurface, StreamingEqualsWholeVolumeProcessing) {
   const sim::RandomVoxels random({19, 17, 13}, 3, 0.45);
   const sim::RandomBlobs blobs({30, 26, 22}, 5, 20);
   const sim::Torus torus({30, 28, 12}, {14.5, 13.5, 5.5}, 8.0, 3.5);
-  for (const sim::Phantom* phantom : {static_cast<const sim::Phantom*>(&random),
-                                      static_cast<const sim::Phantom*>(&blobs),
-                                      static_cast<const sim::Phantom*>(&torus)}) {
+  for (const sim::Phantom* phantom :
+       {static_cast<const sim::Phantom*>(&random), static_cast<const sim::Phantom*>(&blobs),
+        static_cast<const sim::Phantom*>(&torus)}) {
     const Mesh streamed = scan(*phantom);
     const Mesh whole = test::whole_volume_reference(binary_volume(*phantom));
     EXPECT_EQ(streamed.vertices.size(), whole.vertices.size()) << phantom->name();

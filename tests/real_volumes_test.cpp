@@ -43,8 +43,9 @@ std::unique_ptr<SliceSource> open(const RealVolume& volume) {
 
 TEST_P(RealVolumes, LiteralEqualsFastAndTheSurfaceIsClosed) {
   const RealVolume& volume = GetParam();
-  const std::string folder =
-      std::filesystem::path(std::string(MVOX_SHARED_DATASETS) + volume.input).parent_path().string();
+  const std::string folder = std::filesystem::path(std::string(MVOX_SHARED_DATASETS) + volume.input)
+                                 .parent_path()
+                                 .string();
   if (!std::filesystem::exists(folder))
     GTEST_SKIP() << folder << " is absent (../shared/datasets is not beside the checkout)";
 

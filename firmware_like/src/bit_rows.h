@@ -9,7 +9,9 @@ namespace mvox {
 
 constexpr std::uint32_t padded_row_words(std::uint32_t width) { return (width + 2 + 63) / 64; }
 
-inline bool test_bit(const std::uint64_t* row, std::uint32_t j) { return row[j >> 6] >> (j & 63) & 1; }
+inline bool test_bit(const std::uint64_t* row, std::uint32_t j) {
+  return row[j >> 6] >> (j & 63) & 1;
+}
 
 // Word w of the row shifted down by one bit: bit j of the result is bit j + 1 of the row.
 inline std::uint64_t shifted_down(const std::uint64_t* row, std::uint32_t w, std::uint32_t words) {

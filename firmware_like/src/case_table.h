@@ -13,7 +13,8 @@ struct CaseTable {
 
 constexpr CaseTable build_case_table(SurfaceRule rule) {
   CaseTable table;
-  for (unsigned config = 0; config < 256; ++config) table.cases[config] = cube_polygons(config, rule);
+  for (unsigned config = 0; config < 256; ++config)
+    table.cases[config] = cube_polygons(config, rule);
   return table;
 }
 

@@ -11,7 +11,9 @@ namespace mvox {
 Thresholds make_thresholds(double threshold) {
   Thresholds t;
   // Integer samples lie in [-32768, 65535]; clamping keeps ceil() in range and changes nothing.
-  const double clamped = threshold < -70000.0 ? -70000.0 : threshold > 70000.0 ? 70000.0 : threshold;
+  const double clamped = threshold < -70000.0  ? -70000.0
+                         : threshold > 70000.0 ? 70000.0
+                                               : threshold;
   t.integer = static_cast<std::int32_t>(std::ceil(clamped));
   // The smallest float not below D. Converting a double beyond the float range is undefined, so
   // those thresholds are mapped by hand: above FLT_MAX only +inf qualifies; below -FLT_MAX,
@@ -50,7 +52,8 @@ std::uint64_t classify_row(const unsigned char* samples, std::uint32_t width, Th
     const unsigned char* chunk = samples + std::size_t{x0} * sizeof(Sample);
     std::uint64_t mask = 0;
     for (std::uint32_t i = 0; i < n; ++i) {
-      const Threshold value = static_cast<Threshold>(load_sample<Sample>(chunk + i * sizeof(Sample)));
+      const Threshold value =
+          static_cast<Threshold>(load_sample<Sample>(chunk + i * sizeof(Sample)));
       mask |= static_cast<std::uint64_t>(value >= threshold) << i;
     }
     inner += static_cast<std::uint64_t>(set_bit_count(mask));
@@ -77,9 +80,12 @@ std::uint64_t classify_rows(const SliceView& slice, Threshold threshold, std::ui
 std::uint64_t classify_slice(const SliceView& slice, const Thresholds& thresholds,
                              std::uint64_t* rows, std::uint32_t row_words) {
   switch (slice.type) {
-    case SampleType::u8: return classify_rows<std::uint8_t>(slice, thresholds.integer, rows, row_words);
-    case SampleType::u16: return classify_rows<std::uint16_t>(slice, thresholds.integer, rows, row_words);
-    case SampleType::i16: return classify_rows<std::int16_t>(slice, thresholds.integer, rows, row_words);
+    case SampleType::u8:
+      return classify_rows<std::uint8_t>(slice, thresholds.integer, rows, row_words);
+    case SampleType::u16:
+      return classify_rows<std::uint16_t>(slice, thresholds.integer, rows, row_words);
+    case SampleType::i16:
+      return classify_rows<std::int16_t>(slice, thresholds.integer, rows, row_words);
     case SampleType::f32: return classify_rows<float>(slice, thresholds.real, rows, row_words);
   }
   return 0;

@@ -104,7 +104,8 @@ constexpr void add_slice_of_cube(CubeSurface& surface, unsigned config, int bz) 
     for (int e = 4 * axis; e < 4 * axis + 4; ++e) {
       const int low = cube::edge_low_corner(e);
       if (cube::corner_bit(low, 2) != bz) continue;
-      if ((config >> low & 1) && (config >> cube::edge_high_corner(e) & 1)) merge_at_edge(surface, e);
+      if ((config >> low & 1) && (config >> cube::edge_high_corner(e) & 1))
+        merge_at_edge(surface, e);
     }
   }
 }

@@ -11,12 +11,12 @@
 namespace mvox {
 
 struct EdgePlane {
-  std::uint64_t* bits = nullptr;     // rows * row_words words, same padding as bit_rows.h
-  std::uint32_t* prefix = nullptr;   // per word: set bits in all earlier words of the plane
+  std::uint64_t* bits = nullptr;    // rows * row_words words, same padding as bit_rows.h
+  std::uint32_t* prefix = nullptr;  // per word: set bits in all earlier words of the plane
   std::uint32_t rows = 0;
   std::uint32_t row_words = 0;
-  std::uint32_t base = 0;            // global index of the plane's first vertex
-  std::uint32_t count = 0;           // vertices in the plane
+  std::uint32_t base = 0;   // global index of the plane's first vertex
+  std::uint32_t count = 0;  // vertices in the plane
 
   // Index of the vertex on edge (row, j); that edge must have a vertex.
   std::uint32_t index(std::uint32_t row, std::uint32_t j) const {

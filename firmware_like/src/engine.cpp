@@ -152,13 +152,23 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
     state->inner[slot] = reinterpret_cast<std::uint64_t*>(base + layout.inner[slot]);
     state->x_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.x_bits[slot]),
                             reinterpret_cast<std::uint32_t*>(base + layout.x_prefix[slot]),
-                            height, words, 0, 0};
+                            height,
+                            words,
+                            0,
+                            0};
     state->y_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.y_bits[slot]),
                             reinterpret_cast<std::uint32_t*>(base + layout.y_prefix[slot]),
-                            height + 1, words, 0, 0};
+                            height + 1,
+                            words,
+                            0,
+                            0};
   }
   state->z_edges = {reinterpret_cast<std::uint64_t*>(base + layout.z_bits),
-                    reinterpret_cast<std::uint32_t*>(base + layout.z_prefix), height, words, 0, 0};
+                    reinterpret_cast<std::uint32_t*>(base + layout.z_prefix),
+                    height,
+                    words,
+                    0,
+                    0};
   std::uint64_t* zero_row = reinterpret_cast<std::uint64_t*>(base + layout.zero_row);
   std::memset(zero_row, 0, words * sizeof(std::uint64_t));
   state->zero_row = zero_row;
@@ -166,7 +176,8 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   std::memset(state->inner[1], 0, std::size_t{height} * words * sizeof(std::uint64_t));
   state->vertex_batch = reinterpret_cast<Vertex*>(base + layout.vertices);
   state->polygon_batch = reinterpret_cast<Polygon*>(base + layout.polygons);
-  if (options.kind == EngineKind::literal) state->literal.init(base + layout.literal, width, height);
+  if (options.kind == EngineKind::literal)
+    state->literal.init(base + layout.literal, width, height);
 
   state_ = state;
   width_ = width;
@@ -236,8 +247,8 @@ class Emitter {
 // PASS 2 for one plane: each row's edge bits come from `edge_word(row, w)`; every set bit becomes
 // a vertex placed by `emit(row, j, emitter)`. Fills the plane's bits and prefix counts.
 template <typename EdgeWord, typename EmitVertex>
-bool build_plane(EdgePlane& plane, std::uint32_t first_index, EdgeWord edge_word,
-                 EmitVertex emit, Emitter& emitter) {
+bool build_plane(EdgePlane& plane, std::uint32_t first_index, EdgeWord edge_word, EmitVertex emit,
+                 Emitter& emitter) {
   plane.base = first_index;
   std::uint32_t count = 0;
   for (std::uint32_t row = 0; row < plane.rows; ++row) {
@@ -322,8 +333,8 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
 // The global index of the vertex on cube edge `e` (cube.h) of cube (cx, cy) in the layer between
 // slot `lo` and slot `hi`. Cube cx holds voxel columns cx - 1 and cx, that is padded columns cx
 // and cx + 1; cube cy holds rows cy - 1 and cy.
-inline std::uint32_t cube_edge_index(const EngineState& st, int lo, int hi, int e,
-                                     std::uint32_t cx, std::uint32_t cy) {
+inline std::uint32_t cube_edge_index(const EngineState& st, int lo, int hi, int e, std::uint32_t cx,
+                                     std::uint32_t cy) {
   switch (e) {
     case 0: return st.x_edges[lo].index(cy - 1, cx);
     case 1: return st.x_edges[lo].index(cy, cx);
@@ -361,9 +372,9 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t height
   const std::uint32_t words = st.row_words;
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
     const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);  // corners by=0, bz=0
-    const std::uint64_t* r1 = st.row(lo, cy, height);                     // by=1, bz=0
+    const std::uint64_t* r1 = st.row(lo, cy, height);                    // by=1, bz=0
     const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);  // by=0, bz=1
-    const std::uint64_t* r3 = st.row(hi, cy, height);                     // by=1, bz=1
+    const std::uint64_t* r3 = st.row(hi, cy, height);                    // by=1, bz=1
     for (std::uint32_t w = 0; w < words; ++w) {
       // Bit cx of a word is the corner at bx = 0; of its shifted copy the corner at bx = 1.
       const std::uint64_t a0 = r0[w], a1 = shifted_down(r0, w, words);
@@ -374,10 +385,10 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t height
       const std::uint64_t all = a0 & a1 & b0 & b1 & c0 & c1 & d0 & d1;
       for (std::uint64_t active = any & ~all; active; active &= active - 1) {
         const int bit = lowest_set_bit(active);
-        const unsigned config = static_cast<unsigned>(
-            (a0 >> bit & 1) | (a1 >> bit & 1) << 1 | (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
-            (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 | (d0 >> bit & 1) << 6 |
-            (d1 >> bit & 1) << 7);
+        const unsigned config = static_cast<unsigned>((a0 >> bit & 1) | (a1 >> bit & 1) << 1 |
+                                                      (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
+                                                      (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 |
+                                                      (d0 >> bit & 1) << 6 | (d1 >> bit & 1) << 7);
         if (!emit_cube(st, lo, hi, w * 64 + static_cast<std::uint32_t>(bit), cy,
                        st.table->cases[config], emitter))
           return false;
@@ -400,10 +411,10 @@ bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t wid
         const std::uint64_t* r1 = st.row(lo, cy, height);
         const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);
         const std::uint64_t* r3 = st.row(hi, cy, height);
-        const unsigned config =
-            test_bit(r0, cx) | test_bit(r0, cx + 1) << 1 | test_bit(r1, cx) << 2 |
-            test_bit(r1, cx + 1) << 3 | test_bit(r2, cx) << 4 | test_bit(r2, cx + 1) << 5 |
-            test_bit(r3, cx) << 6 | test_bit(r3, cx + 1) << 7;
+        const unsigned config = test_bit(r0, cx) | test_bit(r0, cx + 1) << 1 |
+                                test_bit(r1, cx) << 2 | test_bit(r1, cx + 1) << 3 |
+                                test_bit(r2, cx) << 4 | test_bit(r2, cx + 1) << 5 |
+                                test_bit(r3, cx) << 6 | test_bit(r3, cx + 1) << 7;
         if (paper_table1_applies(config)) polygons = reversed(merge_passes(~config & 0xFFu));
       }
       if (!emit_cube(st, lo, hi, cx, cy, polygons, emitter)) return false;
@@ -420,12 +431,12 @@ bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t wid
 Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_slice) {
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
   Emitter emitter(st, counters_);
-  const bool ok =
-      emit_vertices(st, hi, z, height_, real_slice, emitter, counters_.vertices) &&
-      emitter.flush_vertices() &&
-      (st.options.kind == EngineKind::fast ? emit_layer_fast(st, lo, hi, height_, emitter)
-                                           : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
-      emitter.flush_polygons();
+  const bool ok = emit_vertices(st, hi, z, height_, real_slice, emitter, counters_.vertices) &&
+                  emitter.flush_vertices() &&
+                  (st.options.kind == EngineKind::fast
+                       ? emit_layer_fast(st, lo, hi, height_, emitter)
+                       : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
+                  emitter.flush_polygons();
   return ok ? Status::ok : emitter.status();
 }
 

@@ -24,7 +24,8 @@ class LiteralLayers {
 
   // PHASES 1 and 2 for slice `rows` (bit rows, bit_rows.h) on top of slice `below_rows`
   // (the previous slice, or all outer for the first).
-  void add_slice(const std::uint64_t* below_rows, const std::uint64_t* rows, std::uint32_t row_words);
+  void add_slice(const std::uint64_t* below_rows, const std::uint64_t* rows,
+                 std::uint32_t row_words);
 
   // The completed lower layer's cube at column cx (0..width) and row cy (0..height).
   const CubeSurface& lower_cube(std::uint32_t cx, std::uint32_t cy) const {

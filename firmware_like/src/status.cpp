@@ -1,5 +1,6 @@
-#include "mvox/slice.h"
 #include "mvox/status.h"
+
+#include "mvox/slice.h"
 
 namespace mvox {
 

@@ -33,8 +33,8 @@ Mesh extract(const Volume<Sample>& volume, double threshold, const EngineOptions
   MeshCapture capture;
   Workspace workspace(engine_workspace_bytes(volume.width, volume.height, options));
   Engine engine;
-  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height,
-                        threshold, options, &capture),
+  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height, threshold,
+                        options, &capture),
             Status::ok);
   for (std::uint32_t z = 0; z < volume.depth; ++z) {
     SliceView slice;
@@ -114,7 +114,8 @@ std::vector<Vertex> sorted_positions(const Mesh& mesh) {
   return vertices;
 }
 
-BinaryVolume volume_from_bits(std::uint32_t w, std::uint32_t h, std::uint32_t d, std::uint64_t bits) {
+BinaryVolume volume_from_bits(std::uint32_t w, std::uint32_t h, std::uint32_t d,
+                              std::uint64_t bits) {
   BinaryVolume volume(w, h, d);
   for (std::size_t i = 0; i < volume.samples.size(); ++i) volume.samples[i] = bits >> i & 1;
   return volume;

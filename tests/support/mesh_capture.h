@@ -62,6 +62,7 @@ std::vector<Vertex> sorted_positions(const Mesh& mesh);
 bool same_position(const Vertex& a, const Vertex& b);
 
 // A volume whose voxels are 1 where the bits of `bits` are set, bit i = voxel i in x-fastest order.
-BinaryVolume volume_from_bits(std::uint32_t w, std::uint32_t h, std::uint32_t d, std::uint64_t bits);
+BinaryVolume volume_from_bits(std::uint32_t w, std::uint32_t h, std::uint32_t d,
+                              std::uint64_t bits);
 
 }  // namespace mvox::test

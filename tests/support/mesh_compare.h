@@ -14,9 +14,9 @@ inline ::testing::AssertionResult meshes_identical(const Mesh& a, const Mesh& b)
   for (std::size_t i = 0; i < a.vertices.size(); ++i) {
     const Vertex &u = a.vertices[i], &v = b.vertices[i];
     if (!same_position(u, v) || u.axis != v.axis || u.inner_is_lower != v.inner_is_lower)
-      return ::testing::AssertionFailure() << "vertex " << i << " differs: (" << u.x << "," << u.y
-                                           << "," << u.z << ") vs (" << v.x << "," << v.y << ","
-                                           << v.z << ")";
+      return ::testing::AssertionFailure()
+             << "vertex " << i << " differs: (" << u.x << "," << u.y << "," << u.z << ") vs ("
+             << v.x << "," << v.y << "," << v.z << ")";
   }
   if (a.polygons.size() != b.polygons.size())
     return ::testing::AssertionFailure()

@@ -75,8 +75,8 @@ std::string describe(const Topology& t) {
   out << "V=" << t.vertices << " E=" << t.edges << " F=" << t.faces << " euler=" << t.euler()
       << " components=" << t.components << " open=" << t.open_edges
       << " repeated=" << t.repeated_edges << " unused=" << t.unused_vertices
-      << " duplicate_positions=" << t.duplicate_positions
-      << " degenerate=" << t.degenerate_polygons << " volume=" << t.signed_volume;
+      << " duplicate_positions=" << t.duplicate_positions << " degenerate=" << t.degenerate_polygons
+      << " volume=" << t.signed_volume;
   return out.str();
 }
 

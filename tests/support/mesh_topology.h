@@ -11,8 +11,8 @@ struct Topology {
   std::size_t vertices = 0;
   std::size_t edges = 0;  // undirected
   std::size_t faces = 0;
-  std::size_t open_edges = 0;        // directed edges whose reverse is missing
-  std::size_t repeated_edges = 0;    // directed edges used more than once (bad winding)
+  std::size_t open_edges = 0;      // directed edges whose reverse is missing
+  std::size_t repeated_edges = 0;  // directed edges used more than once (bad winding)
   std::size_t unused_vertices = 0;
   std::size_t duplicate_positions = 0;
   std::size_t degenerate_polygons = 0;  // < 3 vertices, > 7, or a vertex repeated

@@ -26,7 +26,8 @@ std::array<float, 3> edge_midpoint(const CubeKey& key, int e) {
 
 Mesh whole_volume_reference(const BinaryVolume& volume) {
   auto inner = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
-    return x >= 0 && y >= 0 && z >= 0 && x < volume.width && y < volume.height && z < volume.depth &&
+    return x >= 0 && y >= 0 && z >= 0 && x < volume.width && y < volume.height &&
+           z < volume.depth &&
            volume.at(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
                      static_cast<std::uint32_t>(z)) != 0;
   };
@@ -38,10 +39,10 @@ Mesh whole_volume_reference(const BinaryVolume& volume) {
       for (std::int64_t x = 0; x < volume.width; ++x)
         if (inner(x, y, z))
           for (int corner = 0; corner < cube::kCorners; ++corner)
-            add_octant_triangle(cubes[{z + 1 - cube::corner_bit(corner, 2),
-                                       y + 1 - cube::corner_bit(corner, 1),
-                                       x + 1 - cube::corner_bit(corner, 0)}],
-                                corner);
+            add_octant_triangle(
+                cubes[{z + 1 - cube::corner_bit(corner, 2), y + 1 - cube::corner_bit(corner, 1),
+                       x + 1 - cube::corner_bit(corner, 0)}],
+                corner);
 
   // PHASE 2: the x pass over every voxel pair of the volume, then y, then z. The pair's vertex
   // lies on one edge of each of the four cubes around it.
@@ -52,8 +53,10 @@ Mesh whole_volume_reference(const BinaryVolume& volume) {
           const std::int64_t step[3] = {axis == 0, axis == 1, axis == 2};
           if (!inner(x, y, z) || !inner(x + step[0], y + step[1], z + step[2])) continue;
           for (int corner = 0; corner < cube::kCorners; ++corner) {
-            if (cube::corner_bit(corner, axis)) continue;  // the pair's lower voxel is corner's low end
-            const CubeKey key{z + 1 - cube::corner_bit(corner, 2), y + 1 - cube::corner_bit(corner, 1),
+            if (cube::corner_bit(corner, axis))
+              continue;  // the pair's lower voxel is corner's low end
+            const CubeKey key{z + 1 - cube::corner_bit(corner, 2),
+                              y + 1 - cube::corner_bit(corner, 1),
                               x + 1 - cube::corner_bit(corner, 0)};
             merge_at_edge(cubes[key], cube::edge_from_corner(corner, axis));
           }
@@ -68,7 +71,8 @@ Mesh whole_volume_reference(const BinaryVolume& volume) {
       std::vector<std::uint32_t> indices;
       for (int i = 0; i < polygons.polygon_sizes[p]; ++i) {
         const auto position = edge_midpoint(key, polygons.edges[offset + i]);
-        auto [it, added] = index_of.try_emplace(position, static_cast<std::uint32_t>(mesh.vertices.size()));
+        auto [it, added] =
+            index_of.try_emplace(position, static_cast<std::uint32_t>(mesh.vertices.size()));
         if (added) {
           Vertex v;
           v.x = position[0];

@@ -4,16 +4,16 @@
 
 namespace mvox {
 
-enum class [[nodiscard]] Status : std::uint8_t {
-  ok = 0,
-  invalid_argument,      // a null pointer, zero size or an option out of range
-  workspace_misaligned,  // workspace pointer not aligned to kWorkspaceAlignment
-  workspace_too_small,   // fewer bytes than engine_workspace_bytes() asks for
-  not_initialised,       // push_slice()/finish() before a successful init()
-  slice_size_mismatch,   // a slice whose width or height differs from init()
-  already_finished,      // push_slice()/finish() after finish()
-  sink_refused,          // the polygon sink returned an error; the engine stopped
-  vertex_index_overflow, // more vertices than a 32-bit signed index can address
+enum class [[nodiscard]] Status : std::uint8_t{
+    ok = 0,
+    invalid_argument,       // a null pointer, zero size or an option out of range
+    workspace_misaligned,   // workspace pointer not aligned to kWorkspaceAlignment
+    workspace_too_small,    // fewer bytes than engine_workspace_bytes() asks for
+    not_initialised,        // push_slice()/finish() before a successful init()
+    slice_size_mismatch,    // a slice whose width or height differs from init()
+    already_finished,       // push_slice()/finish() after finish()
+    sink_refused,           // the polygon sink returned an error; the engine stopped
+    vertex_index_overflow,  // more vertices than a 32-bit signed index can address
 };
 
 // A short English description, for messages ("workspace too small").
