@@ -40,6 +40,15 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
   echo "loads; *the job's own share* is the peak minus the resident size when the job started."
   echo
   "$root/bench/memory_vs_slices.sh" "$root/build/src/mvox" 3
+  echo
+  echo "## Reading these figures"
+  echo
+  echo "- The literal engine is the reference implementation of the paper's passes (per-voxel"
+  echo "  triangles and merges); it exists to check the fast engine, not to be fast."
+  echo "- MRbrain's end-to-end time is mostly decoding its 99 PNG files; CThead and engine are raw."
+  echo "- MRbrain has more surface per voxel (noisy MR at a low threshold), and the fast engine's"
+  echo "  time grows with the number of polygons it emits."
+  echo "- Not measured here yet: the comparison with VTK, scikit-image and marching cubes."
 } > "$tmp"
 mv "$tmp" "$out"
 echo "wrote $out"
