@@ -27,30 +27,33 @@ Status MeshCapture::consume_polygons(const Polygon* polygons, std::size_t polygo
   return Status::ok;
 }
 
-template <typename Sample>
-Mesh extract(const Volume<Sample>& volume, double threshold, const EngineOptions& options,
-             EngineCounters* counters) {
+Mesh extract_slices(const std::vector<SliceView>& slices, std::uint32_t width, std::uint32_t height,
+                    double threshold, const EngineOptions& options, EngineCounters* counters) {
   MeshCapture capture;
-  Workspace workspace(engine_workspace_bytes(volume.width, volume.height, options));
+  Workspace workspace(engine_workspace_bytes(width, height, options));
   Engine engine;
-  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height, threshold,
-                        options, &capture),
-            Status::ok);
-  for (std::uint32_t z = 0; z < volume.depth; ++z) {
-    SliceView slice;
-    slice.samples = volume.samples.data() + std::size_t{z} * volume.width * volume.height;
-    slice.width = volume.width;
-    slice.height = volume.height;
-    slice.row_stride_bytes = volume.width * sizeof(Sample);
-    if constexpr (std::is_same_v<Sample, std::uint8_t>) slice.type = SampleType::u8;
-    if constexpr (std::is_same_v<Sample, std::uint16_t>) slice.type = SampleType::u16;
-    if constexpr (std::is_same_v<Sample, std::int16_t>) slice.type = SampleType::i16;
-    if constexpr (std::is_same_v<Sample, float>) slice.type = SampleType::f32;
-    EXPECT_EQ(engine.push_slice(slice), Status::ok) << "slice " << z;
-  }
+  EXPECT_EQ(
+      engine.init(workspace.data(), workspace.bytes(), width, height, threshold, options, &capture),
+      Status::ok);
+  for (std::size_t z = 0; z < slices.size(); ++z)
+    EXPECT_EQ(engine.push_slice(slices[z]), Status::ok) << "slice " << z;
   EXPECT_EQ(engine.finish(), Status::ok);
   if (counters) *counters = engine.counters();
   return std::move(capture.mesh);
+}
+
+template <typename Sample>
+Mesh extract(const Volume<Sample>& volume, double threshold, const EngineOptions& options,
+             EngineCounters* counters) {
+  SampleType type = SampleType::u8;
+  if constexpr (std::is_same_v<Sample, std::uint16_t>) type = SampleType::u16;
+  if constexpr (std::is_same_v<Sample, std::int16_t>) type = SampleType::i16;
+  if constexpr (std::is_same_v<Sample, float>) type = SampleType::f32;
+  std::vector<SliceView> slices;
+  for (std::uint32_t z = 0; z < volume.depth; ++z)
+    slices.push_back({volume.samples.data() + std::size_t{z} * volume.width * volume.height,
+                      volume.width, volume.height, volume.width * sizeof(Sample), type});
+  return extract_slices(slices, volume.width, volume.height, threshold, options, counters);
 }
 
 template Mesh extract(const Volume<std::uint8_t>&, double, const EngineOptions&, EngineCounters*);

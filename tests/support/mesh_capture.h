@@ -52,6 +52,11 @@ Mesh extract(const Volume<Sample>& volume, double threshold, const EngineOptions
 Mesh extract(SliceSource& source, double threshold, const EngineOptions& options = {},
              EngineCounters* counters = nullptr);
 
+// Extracts the surface of the given slices, pushed in order, all `width` x `height`.
+Mesh extract_slices(const std::vector<SliceView>& slices, std::uint32_t width, std::uint32_t height,
+                    double threshold, const EngineOptions& options = {},
+                    EngineCounters* counters = nullptr);
+
 // Every inner/outer pair of 6-adjacent voxels (voxels outside the volume are outer), as the
 // midpoint the vertex must sit at, sorted: an oracle independent of the engine.
 std::vector<Vertex> expected_vertices(const BinaryVolume& inner);
