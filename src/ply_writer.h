@@ -48,7 +48,7 @@ class PlyWriter final : public PolygonSink {
   // Creates the temporary files. Throws mvox::Error (e.g. "out/mesh.ply: cannot create file:
   // No such file or directory", or an invalid option).
   explicit PlyWriter(const std::string& path, PlyWriterOptions options = {});
-  ~PlyWriter() override = default;
+  ~PlyWriter() = default;
 
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override;
   // Polygons must have 3 to kMaxPolygonVertices vertices, each already consumed; anything else

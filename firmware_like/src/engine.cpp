@@ -14,6 +14,7 @@
 #include "bit_rows.h"
 #include "case_table.h"
 #include "classify.h"
+#include "cube.h"
 #include "edge_plane.h"
 #include "literal_layers.h"
 
@@ -41,6 +42,7 @@ struct Layout {
   std::size_t z_bits = 0, z_prefix = 0;
   std::size_t vertices = 0;
   std::size_t polygons = 0;
+  std::size_t geometry = 0;
   std::size_t literal = 0;
   std::size_t total = 0;
 };
@@ -67,6 +69,7 @@ struct detail::EngineState {
   Vertex* vertex_batch = nullptr;
   std::uint32_t vertex_fill = 0;
   Polygon* polygon_batch = nullptr;
+  PolygonGeometry* geometry_batch = nullptr;  // parallel to polygon_batch; null unless asked for
   std::uint32_t polygon_fill = 0;
   LiteralLayers literal;
 
@@ -106,6 +109,9 @@ bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptio
   layout->z_prefix = take(prefix_bytes(height));
   layout->vertices = take(std::uint64_t{options.vertices_per_batch} * sizeof(Vertex));
   layout->polygons = take(std::uint64_t{options.polygons_per_batch} * sizeof(Polygon));
+  layout->geometry = take(options.polygon_geometry
+                              ? std::uint64_t{options.polygons_per_batch} * sizeof(PolygonGeometry)
+                              : 0);
   layout->literal =
       take(options.kind == EngineKind::literal ? LiteralLayers::bytes(width, height) : 0);
   if (offset > SIZE_MAX / 2) return false;
@@ -176,6 +182,8 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   std::memset(state->inner[1], 0, std::size_t{height} * words * sizeof(std::uint64_t));
   state->vertex_batch = reinterpret_cast<Vertex*>(base + layout.vertices);
   state->polygon_batch = reinterpret_cast<Polygon*>(base + layout.polygons);
+  if (options.polygon_geometry)
+    state->geometry_batch = reinterpret_cast<PolygonGeometry*>(base + layout.geometry);
   if (options.kind == EngineKind::literal)
     state->literal.init(base + layout.literal, width, height);
 
@@ -209,6 +217,10 @@ class Emitter {
   }
 
   Polygon& next_polygon() { return state_.polygon_batch[state_.polygon_fill]; }
+  // Null unless the options ask for polygons by value.
+  PolygonGeometry* next_geometry() {
+    return state_.geometry_batch ? &state_.geometry_batch[state_.polygon_fill] : nullptr;
+  }
 
   bool commit_polygon() {
     const Polygon& p = state_.polygon_batch[state_.polygon_fill++];
@@ -226,7 +238,9 @@ class Emitter {
 
   bool flush_polygons() {
     if (state_.polygon_fill == 0) return true;
-    const Status s = state_.sink->consume_polygons(state_.polygon_batch, state_.polygon_fill);
+    Status s = state_.sink->consume_polygons(state_.polygon_batch, state_.polygon_fill);
+    if (s == Status::ok && state_.geometry_batch)
+      s = state_.sink->consume_polygon_geometry(state_.geometry_batch, state_.polygon_fill);
     state_.polygon_fill = 0;
     return s == Status::ok || stop(Status::sink_refused);
   }
@@ -351,14 +365,36 @@ inline std::uint32_t cube_edge_index(const EngineState& st, int lo, int hi, int 
   }
 }
 
+// The vertex on cube edge `e` of cube (cx, cy) in the layer between slices z - 1 and z, whose
+// corners are inner where `config` has a bit (cube.h): what PASS 2 emitted for that edge.
+inline Vertex cube_edge_vertex(int e, std::uint32_t cx, std::uint32_t cy, std::uint32_t z,
+                               unsigned config) {
+  const int low = cube::edge_low_corner(e);
+  const int axis = cube::edge_axis(e);
+  Vertex v;
+  // Corner bit 0 is voxel cx - 1 (cy - 1, z - 1); the vertex is half a voxel along the edge.
+  v.x = static_cast<float>(cx) - 1.0f + static_cast<float>(cube::corner_bit(low, 0));
+  v.y = static_cast<float>(cy) - 1.0f + static_cast<float>(cube::corner_bit(low, 1));
+  v.z = static_cast<float>(z) - 1.0f + static_cast<float>(cube::corner_bit(low, 2));
+  (axis == 0 ? v.x : axis == 1 ? v.y : v.z) += 0.5f;
+  v.axis = static_cast<Axis>(axis);
+  v.inner_is_lower = (config >> low & 1) != 0;
+  return v;
+}
+
 bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uint32_t cy,
-               const CubePolygons& polygons, Emitter& emitter) {
+               std::uint32_t z, unsigned config, const CubePolygons& polygons, Emitter& emitter) {
   int offset = 0;
   for (int p = 0; p < polygons.polygon_count; ++p) {
     Polygon& out = emitter.next_polygon();
     out.vertex_count = polygons.polygon_sizes[p];
     for (int i = 0; i < out.vertex_count; ++i)
       out.vertices[i] = cube_edge_index(st, lo, hi, polygons.edges[offset + i], cx, cy);
+    if (PolygonGeometry* geometry = emitter.next_geometry()) {
+      geometry->vertex_count = out.vertex_count;
+      for (int i = 0; i < out.vertex_count; ++i)
+        geometry->vertices[i] = cube_edge_vertex(polygons.edges[offset + i], cx, cy, z, config);
+    }
     offset += out.vertex_count;
     if (!emitter.commit_polygon()) return false;
   }
@@ -367,7 +403,7 @@ bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uin
 
 // PASS 3, fast: visits only cubes whose eight voxels are not all alike (computational trimming
 // after Flying Edges), a word of 64 cubes at a time, and looks each configuration up.
-bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t height,
+bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
                      Emitter& emitter) {
   const std::uint32_t words = st.row_words;
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
@@ -389,7 +425,7 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t height
                                                       (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
                                                       (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 |
                                                       (d0 >> bit & 1) << 6 | (d1 >> bit & 1) << 7);
-        if (!emit_cube(st, lo, hi, w * 64 + static_cast<std::uint32_t>(bit), cy,
+        if (!emit_cube(st, lo, hi, w * 64 + static_cast<std::uint32_t>(bit), cy, z, config,
                        st.table->cases[config], emitter))
           return false;
       }
@@ -399,25 +435,24 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t height
 }
 
 // PASS 3, literal: the merged segments of each completed cube, walked into loops.
-bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t width,
+bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t width,
                         std::uint32_t height, Emitter& emitter) {
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
     for (std::uint32_t cx = 0; cx <= width; ++cx) {
       const CubeSurface& surface = st.literal.lower_cube(cx, cy);
       if (surface.segment_count == 0) continue;
       CubePolygons polygons = extract_loops(surface);
-      if (st.options.rule == SurfaceRule::paper_table1) {
-        const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);
-        const std::uint64_t* r1 = st.row(lo, cy, height);
-        const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);
-        const std::uint64_t* r3 = st.row(hi, cy, height);
-        const unsigned config = test_bit(r0, cx) | test_bit(r0, cx + 1) << 1 |
-                                test_bit(r1, cx) << 2 | test_bit(r1, cx + 1) << 3 |
-                                test_bit(r2, cx) << 4 | test_bit(r2, cx + 1) << 5 |
-                                test_bit(r3, cx) << 6 | test_bit(r3, cx + 1) << 7;
-        if (paper_table1_applies(config)) polygons = reversed(merge_passes(~config & 0xFFu));
-      }
-      if (!emit_cube(st, lo, hi, cx, cy, polygons, emitter)) return false;
+      const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);
+      const std::uint64_t* r1 = st.row(lo, cy, height);
+      const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);
+      const std::uint64_t* r3 = st.row(hi, cy, height);
+      const unsigned config = test_bit(r0, cx) | test_bit(r0, cx + 1) << 1 | test_bit(r1, cx) << 2 |
+                              test_bit(r1, cx + 1) << 3 | test_bit(r2, cx) << 4 |
+                              test_bit(r2, cx + 1) << 5 | test_bit(r3, cx) << 6 |
+                              test_bit(r3, cx + 1) << 7;
+      if (st.options.rule == SurfaceRule::paper_table1 && paper_table1_applies(config))
+        polygons = reversed(merge_passes(~config & 0xFFu));
+      if (!emit_cube(st, lo, hi, cx, cy, z, config, polygons, emitter)) return false;
     }
   }
   return true;
@@ -434,8 +469,8 @@ Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_sl
   const bool ok = emit_vertices(st, hi, z, height_, real_slice, emitter, counters_.vertices) &&
                   emitter.flush_vertices() &&
                   (st.options.kind == EngineKind::fast
-                       ? emit_layer_fast(st, lo, hi, height_, emitter)
-                       : emit_layer_literal(st, lo, hi, width_, height_, emitter)) &&
+                       ? emit_layer_fast(st, lo, hi, z, height_, emitter)
+                       : emit_layer_literal(st, lo, hi, z, width_, height_, emitter)) &&
                   emitter.flush_polygons();
   return ok ? Status::ok : emitter.status();
 }

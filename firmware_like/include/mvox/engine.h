@@ -48,6 +48,9 @@ struct EngineOptions {
   SurfaceRule rule = SurfaceRule::merge_rules;
   std::uint32_t vertices_per_batch = 4096;  // >= 1; vertex buffer size in the workspace
   std::uint32_t polygons_per_batch = 4096;  // >= 1; polygon buffer size in the workspace
+  // Also send every polygon batch by value (PolygonSink::consume_polygon_geometry), for a
+  // renderer. Adds polygons_per_batch * sizeof(PolygonGeometry) bytes (116 each) of workspace.
+  bool polygon_geometry = false;
 };
 
 // What the engine has seen and produced so far.

@@ -32,4 +32,11 @@ struct Polygon {
   std::uint32_t vertices[kMaxPolygonVertices] = {};
 };
 
+// The same polygon with its vertices by value, in the same order: for sinks that draw rather
+// than index (the renderer), so that they need not keep every vertex of the last layers.
+struct PolygonGeometry {
+  std::uint8_t vertex_count = 0;
+  Vertex vertices[kMaxPolygonVertices] = {};
+};
+
 }  // namespace mvox

@@ -13,9 +13,21 @@ namespace mvox {
 // the engine: it reports Status::sink_refused and sends nothing more.
 class PolygonSink {
  public:
-  virtual ~PolygonSink() = default;
   virtual Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) = 0;
   virtual Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) = 0;
+  // Only with EngineOptions::polygon_geometry: called right after consume_polygons with the
+  // same batch, each polygon's vertices given by value. Sinks that index ignore it.
+  virtual Status consume_polygon_geometry(const PolygonGeometry* polygons,
+                                          std::size_t polygon_count) {
+    (void)polygons;
+    (void)polygon_count;
+    return Status::ok;
+  }
+
+ protected:
+  // Sinks are never owned or deleted through this interface. A non-virtual destructor keeps
+  // operator delete (a deleting destructor) out of the core's sinks, which never allocate.
+  ~PolygonSink() = default;
 };
 
 }  // namespace mvox

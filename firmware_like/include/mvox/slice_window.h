@@ -1,0 +1,71 @@
+#pragma once
+// The last few slices' samples, kept for what needs densities around a vertex after the engine
+// has classified them away: gradient normals (vertex_normals.h). Memory is the caller's, sized
+// by slice_window_bytes(); nothing is allocated after init().
+//
+// Normals of the vertices that slice z completes need the gradient at slices z - 1 and z, that
+// is samples of slices z - 2 .. z + 1. So a caller that wants normals copies each slice here
+// first and feeds the engine one slice behind (the window's stored copy of slice z while slice
+// z + 1 is the newest), then the last slice after the source ends (sim/stream.h does this).
+#include <cstddef>
+#include <cstdint>
+
+#include "mvox/slice.h"
+#include "mvox/status.h"
+
+namespace mvox {
+
+// Slices held: z - 2 .. z + 1 around the engine's current slice z.
+constexpr std::uint32_t kSliceWindowDepth = 4;
+
+// Bytes of workspace for a window over slices of width x height samples of `type`:
+// kSliceWindowDepth * width * height * sample_bytes(type). 0 when a size is 0 or too large.
+std::size_t slice_window_bytes(std::uint32_t width, std::uint32_t height, SampleType type);
+
+class SliceWindow {
+ public:
+  SliceWindow() = default;
+  SliceWindow(const SliceWindow&) = delete;
+  SliceWindow& operator=(const SliceWindow&) = delete;
+
+  // Prepares an empty window over `workspace` (borrowed; at least slice_window_bytes() bytes,
+  // any alignment). May be called again to start a new volume.
+  Status init(void* workspace, std::size_t workspace_bytes, std::uint32_t width,
+              std::uint32_t height, SampleType type);
+
+  // Copies `slice` in as slice number slices(); the oldest slice held is dropped.
+  Status push(const SliceView& slice);
+
+  // Slices pushed so far; the window holds slices max(0, slices() - 4) .. slices() - 1.
+  std::uint32_t slices() const { return slices_; }
+  bool holds(std::int64_t z) const {
+    return z >= 0 && z < std::int64_t{slices_} && z + kSliceWindowDepth >= slices_;
+  }
+
+  // A view of held slice `z` (holds(z) must be true); valid until that slot is overwritten,
+  // kSliceWindowDepth pushes later.
+  SliceView slice(std::uint32_t z) const;
+
+  // The sample at voxel (x, y, z) as a double, with x, y clamped to the slice and z clamped to
+  // 0 .. slices() - 1 (replicating the border, as central differences at the edge of a volume
+  // usually do). After clamping, z must be held.
+  double sample(std::int64_t x, std::int64_t y, std::int64_t z) const;
+
+  std::uint32_t width() const { return width_; }
+  std::uint32_t height() const { return height_; }
+  SampleType type() const { return type_; }
+  // Start of row y of held slice z (z already clamped and held), for loops that read rows.
+  const unsigned char* row(std::uint32_t y, std::uint32_t z) const {
+    return slots_ + (std::size_t{z % kSliceWindowDepth} * height_ + y) * row_bytes_;
+  }
+
+ private:
+  unsigned char* slots_ = nullptr;  // kSliceWindowDepth slices, slice z in slot z % depth
+  std::size_t row_bytes_ = 0;
+  std::uint32_t width_ = 0;
+  std::uint32_t height_ = 0;
+  std::uint32_t slices_ = 0;
+  SampleType type_ = SampleType::u8;
+};
+
+}  // namespace mvox

@@ -1,0 +1,223 @@
+// Half-space triangle rasteriser after Capens (2004): vertices snapped to 1/256 pixel, integer
+// edge functions evaluated at pixel centres, the top-left rule for pixels exactly on an edge.
+// Depth and normals are interpolated with barycentric weights taken from the same edge
+// functions, so coverage and interpolation agree.
+#include "mvox/zbuffer_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+#include <limits>
+
+namespace mvox {
+namespace {
+
+constexpr int kSubpixelBits = 8;
+constexpr std::int64_t kSubpixel = std::int64_t{1} << kSubpixelBits;
+constexpr std::int64_t kHalfPixel = kSubpixel / 2;
+constexpr int kMaxPolygonVerticesDrawn = 16;
+// Vertices may lie this far outside the image (in pixels) and still be drawn; beyond it the
+// polygon is dropped. Keeps fixed-point edge products far inside 64 bits.
+constexpr float kGuardBandPixels = 32768.0f;
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return -floor_div(-a, b); }
+
+bool lighting_valid(const Lighting& l) {
+  auto ok = [](float v) { return std::isfinite(v) && v >= 0.0f; };
+  return ok(l.ambient) && ok(l.diffuse) && ok(l.specular) && ok(l.shininess);
+}
+
+// An edge function E(P) = (q - p) x (P - p) with its steps per pixel and its top-left bias:
+// pixels exactly on a top or left edge belong to the triangle, on other edges they do not.
+struct Edge {
+  std::int64_t at_start = 0;  // at the first pixel centre of the bounding box, bias included
+  std::int64_t step_x = 0;
+  std::int64_t step_y = 0;
+  std::int64_t bias = 0;  // 0 or -1
+
+  Edge(std::int64_t px, std::int64_t py, std::int64_t qx, std::int64_t qy, std::int64_t start_x,
+       std::int64_t start_y) {
+    const std::int64_t dx = qx - px, dy = qy - py;
+    // With y pointing down and triangles wound so that the area is positive, interior lies
+    // to the right of each edge: a top edge runs along +x, a left edge runs up (dy < 0).
+    const bool top_left = (dy == 0 && dx > 0) || dy < 0;
+    bias = top_left ? 0 : -1;
+    at_start = dx * (start_y - py) - dy * (start_x - px) + bias;
+    step_x = -dy * kSubpixel;
+    step_y = dx * kSubpixel;
+  }
+};
+
+}  // namespace
+
+struct ZBufferRenderer::ScreenVertex {
+  std::int64_t x = 0, y = 0;  // pixels * kSubpixel, y down
+  float depth = 0;            // 0 (near) .. 1 (far)
+  glm::vec3 normal{0.0f};     // view space, divided by clip w: interpolates perspective-correctly
+};
+
+std::size_t zbuffer_workspace_bytes(std::uint32_t width, std::uint32_t height) {
+  if (width == 0 || height == 0 || width > kMaxImageSide || height > kMaxImageSide) return 0;
+  return std::size_t{width} * height * (sizeof(float) + sizeof(std::uint8_t));
+}
+
+Status ZBufferRenderer::init(void* workspace, std::size_t workspace_bytes, const Camera& camera,
+                             const Lighting& lighting) {
+  depth_ = nullptr;
+  shade_ = nullptr;
+  const std::size_t needed = zbuffer_workspace_bytes(camera.width, camera.height);
+  if (!workspace || needed == 0 || !lighting_valid(lighting)) return Status::invalid_argument;
+  if (reinterpret_cast<std::uintptr_t>(workspace) % alignof(float) != 0)
+    return Status::workspace_misaligned;
+  if (workspace_bytes < needed) return Status::workspace_too_small;
+  width_ = camera.width;
+  height_ = camera.height;
+  camera_ = camera;
+  lighting_ = lighting;
+  depth_ = static_cast<float*>(workspace);
+  shade_ = reinterpret_cast<std::uint8_t*>(depth_ + std::size_t{width_} * height_);
+  // The whole lighting model folded into a table of the cosine: no pow() per pixel.
+  for (int i = 0; i < kShadeLevels; ++i) {
+    const float c = static_cast<float>(i) / (kShadeLevels - 1);
+    float shade = lighting.ambient + lighting.diffuse * c +
+                  lighting.specular * std::pow(c, lighting.shininess);
+    shade = shade < 0.0f ? 0.0f : shade > 1.0f ? 1.0f : shade;
+    shade_of_cosine_[i] = static_cast<std::uint8_t>(std::lround(shade * 255.0f));
+  }
+  clear();
+  return Status::ok;
+}
+
+void ZBufferRenderer::clear() {
+  const std::size_t pixels = std::size_t{width_} * height_;
+  for (std::size_t i = 0; i < pixels; ++i) depth_[i] = std::numeric_limits<float>::infinity();
+  std::memset(shade_, lighting_.background, pixels);
+  counters_ = RenderCounters();
+}
+
+void ZBufferRenderer::draw_polygon(const glm::vec3* positions, const glm::vec3* normals,
+                                   int vertex_count) {
+  if (!depth_ || vertex_count < 3 || vertex_count > kMaxPolygonVerticesDrawn) return;
+  ++counters_.polygons;
+  ScreenVertex v[kMaxPolygonVerticesDrawn];
+  const glm::mat4& to_clip = camera_.world_to_clip;
+  const float half_width = 0.5f * static_cast<float>(width_);
+  const float half_height = 0.5f * static_cast<float>(height_);
+  for (int i = 0; i < vertex_count; ++i) {
+    const glm::vec4 clip = to_clip * glm::vec4(positions[i], 1.0f);
+    if (!(clip.w > 1e-20f)) {  // behind the eye (perspective), or NaN
+      ++counters_.polygons_clipped;
+      return;
+    }
+    const float inverse_w = 1.0f / clip.w;
+    const float sx = (clip.x * inverse_w + 1.0f) * half_width;
+    const float sy = (1.0f - clip.y * inverse_w) * half_height;
+    if (!(std::fabs(sx - half_width) < kGuardBandPixels &&
+          std::fabs(sy - half_height) < kGuardBandPixels)) {
+      ++counters_.polygons_clipped;
+      return;
+    }
+    v[i].x = std::llround(sx * kSubpixel);
+    v[i].y = std::llround(sy * kSubpixel);
+    v[i].depth = 0.5f * (clip.z * inverse_w + 1.0f);
+    if (normals) v[i].normal = camera_.world_to_view * normals[i] * inverse_w;
+  }
+  for (int i = 1; i + 1 < vertex_count; ++i) {
+    if (normals) {
+      draw_triangle(v[0], v[i], v[i + 1]);
+    } else {
+      // Flat: the triangle's own normal at its three corners.
+      const glm::vec3 n = camera_.world_to_view *
+                          glm::cross(positions[i] - positions[0], positions[i + 1] - positions[0]);
+      ScreenVertex a = v[0], b = v[i], c = v[i + 1];
+      a.normal = b.normal = c.normal = n;
+      draw_triangle(a, b, c);
+    }
+  }
+}
+
+void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b,
+                                    const ScreenVertex& c) {
+  const ScreenVertex* v0 = &a;
+  const ScreenVertex* v1 = &b;
+  const ScreenVertex* v2 = &c;
+  // Twice the signed area; positive for triangles wound counter-clockwise as seen (y down
+  // turns that into clockwise on screen), which faces the viewer.
+  std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
+  if (area <= 0) {
+    if (area == 0 || lighting_.cull_back_faces) {
+      ++counters_.triangles_culled;
+      return;
+    }
+    const ScreenVertex* swap = v1;
+    v1 = v2;
+    v2 = swap;
+    area = -area;
+  }
+
+  // Pixels whose centre (px + 1/2, py + 1/2) lies in the bounding box, clipped to the image.
+  const std::int64_t min_x = std::min({v0->x, v1->x, v2->x});
+  const std::int64_t max_x = std::max({v0->x, v1->x, v2->x});
+  const std::int64_t min_y = std::min({v0->y, v1->y, v2->y});
+  const std::int64_t max_y = std::max({v0->y, v1->y, v2->y});
+  const std::int64_t first_x = std::max<std::int64_t>(0, ceil_div(min_x - kHalfPixel, kSubpixel));
+  const std::int64_t last_x =
+      std::min<std::int64_t>(width_ - 1, floor_div(max_x - kHalfPixel, kSubpixel));
+  const std::int64_t first_y = std::max<std::int64_t>(0, ceil_div(min_y - kHalfPixel, kSubpixel));
+  const std::int64_t last_y =
+      std::min<std::int64_t>(height_ - 1, floor_div(max_y - kHalfPixel, kSubpixel));
+  ++counters_.triangles_drawn;
+  if (first_x > last_x || first_y > last_y) return;
+
+  const std::int64_t start_x = first_x * kSubpixel + kHalfPixel;
+  const std::int64_t start_y = first_y * kSubpixel + kHalfPixel;
+  // Edge i is opposite vertex i; its value over the area is vertex i's barycentric weight.
+  const Edge e0(v1->x, v1->y, v2->x, v2->y, start_x, start_y);
+  const Edge e1(v2->x, v2->y, v0->x, v0->y, start_x, start_y);
+  const Edge e2(v0->x, v0->y, v1->x, v1->y, start_x, start_y);
+
+  const float inverse_area = 1.0f / static_cast<float>(area);
+  const float depth_1 = v1->depth - v0->depth, depth_2 = v2->depth - v0->depth;
+  const glm::vec3 normal_1 = v1->normal - v0->normal, normal_2 = v2->normal - v0->normal;
+  const float cosine_scale = static_cast<float>(kShadeLevels - 1);
+
+  std::int64_t row_w0 = e0.at_start, row_w1 = e1.at_start, row_w2 = e2.at_start;
+  for (std::int64_t py = first_y; py <= last_y; ++py) {
+    std::int64_t w0 = row_w0, w1 = row_w1, w2 = row_w2;
+    float* depth_row = depth_ + static_cast<std::size_t>(py) * width_;
+    std::uint8_t* shade_row = shade_ + static_cast<std::size_t>(py) * width_;
+    for (std::int64_t px = first_x; px <= last_x; ++px) {
+      if ((w0 | w1 | w2) >= 0) {
+        ++counters_.fragments_covered;
+        const float l1 = static_cast<float>(w1 - e1.bias) * inverse_area;
+        const float l2 = static_cast<float>(w2 - e2.bias) * inverse_area;
+        const float depth = v0->depth + l1 * depth_1 + l2 * depth_2;
+        if (depth < depth_row[px] && depth >= 0.0f && depth <= 1.0f) {
+          ++counters_.fragments_written;
+          depth_row[px] = depth;
+          const glm::vec3 n = v0->normal + l1 * normal_1 + l2 * normal_2;
+          const float length_squared = glm::dot(n, n);
+          // min(): rounding can put the quotient a hair above 1, past the table's end.
+          const float cosine = length_squared > 0.0f
+                                   ? std::min(1.0f, std::fabs(n.z) / std::sqrt(length_squared))
+                                   : 0.0f;
+          shade_row[px] = shade_of_cosine_[static_cast<int>(cosine * cosine_scale + 0.5f)];
+        }
+      }
+      w0 += e0.step_x;
+      w1 += e1.step_x;
+      w2 += e2.step_x;
+    }
+    row_w0 += e0.step_y;
+    row_w1 += e1.step_y;
+    row_w2 += e2.step_y;
+  }
+}
+
+}  // namespace mvox
