@@ -1,7 +1,10 @@
 #include "cli_options.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+
+#include "error.h"
 
 namespace mvox {
 
@@ -63,6 +66,67 @@ PlyWriterOptions ply_writer_options(const PlyChoice& choice, const double input_
   }
   options.comments.push_back(comment);
   return options;
+}
+
+void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse use) {
+  const bool extraction = use == PictureUse::extraction;
+  command.add_option("--image", choice.image,
+                     extraction ? "Also render the surface into this picture (.png, .pgm, .tif)"
+                                : "The picture to write (.png, .pgm, .tif); same as -o");
+  command.add_option("--size", choice.size, "Picture size in pixels, WxH or N for NxN")
+      ->capture_default_str();
+  command
+      .add_option("--view", choice.view,
+                  "View direction in degrees: AZIMUTH,ELEVATION[,ROLL]. 0,0 looks from the top "
+                  "rows of the slices (the front, for CT and MR) with later slices up; azimuth "
+                  "turns the camera towards +x, elevation lifts it, roll turns the picture")
+      ->delimiter(',')
+      ->expected(2, 3)
+      ->check(CLI::Range(-360.0f, 360.0f));
+  command.add_flag("--perspective", choice.perspective,
+                   "Perspective projection (default: orthographic, the volume fitted)");
+  command.add_option("--fov", choice.field_of_view_deg,
+                     "Perspective field of view in degrees")
+      ->check(CLI::Range(1.0f, 170.0f))
+      ->capture_default_str();
+  command.add_flag("--flat", choice.flat,
+                   "Shade each polygon flat instead of with smooth gradient normals");
+  if (!extraction) return;
+  command.add_option("--frames", choice.frames_dir,
+                     "Also write the picture so far into this directory every --every slices "
+                     "(frame_0010.png, ...; created if missing)");
+  command.add_option("--every", choice.every, "Slices between frames")
+      ->check(CLI::Range(1u, 1u << 30))
+      ->capture_default_str();
+  command.add_flag("--show", choice.show,
+                   "Show the picture growing in a window (needs a display)");
+}
+
+PictureOptions PictureChoice::options() const {
+  PictureOptions result;
+  result.image_path = image;
+  unsigned width = 0, height = 0;
+  char extra = 0;
+  const int fields = std::sscanf(size.c_str(), "%ux%u%c", &width, &height, &extra);
+  if (fields == 1 && size.find('x') == std::string::npos) height = width;
+  if (!((fields == 2 || (fields == 1 && height == width)) && width >= 1 && height >= 1 &&
+        width <= kMaxImageSide && height <= kMaxImageSide))
+    throw Error("--size", "'" + size + "' is not a picture size: give WxH or N, 1 to " +
+                              std::to_string(kMaxImageSide) + " pixels per side");
+  result.width = width;
+  result.height = height;
+  if (view.size() >= 2) {
+    result.view.azimuth_deg = view[0];
+    result.view.elevation_deg = view[1];
+  }
+  if (view.size() == 3) result.view.roll_deg = view[2];
+  result.view.perspective = perspective;
+  result.view.field_of_view_deg = field_of_view_deg;
+  result.smooth = !flat;
+  result.frames_dir = frames_dir;
+  result.every = every;
+  result.show = show;
+  return result;
 }
 
 }  // namespace mvox

@@ -6,6 +6,7 @@
 
 #include "mvox/engine.h"
 #include "ply_writer.h"
+#include "surface_picture.h"
 
 namespace mvox {
 
@@ -32,5 +33,23 @@ void add_ply_options(CLI::App& command, PlyChoice& choice);
 // The PLY options for a run, with the input's own spacing unless --spacing was given.
 PlyWriterOptions ply_writer_options(const PlyChoice& choice, const double input_spacing[3],
                                     const double input_origin[3], const std::string& comment);
+
+// The picture options: --image, --size, --view, --perspective, --fov, --flat, and for
+// extraction also --frames, --every and --show.
+struct PictureChoice {
+  std::string image;
+  std::string size = "512x512";
+  std::vector<float> view;  // azimuth, elevation[, roll] in degrees
+  bool perspective = false;
+  float field_of_view_deg = 30;
+  bool flat = false;
+  std::string frames_dir;
+  std::uint32_t every = 10;
+  bool show = false;
+  // Throws mvox::Error for a malformed --size.
+  PictureOptions options() const;
+};
+enum class PictureUse { extraction, mesh_file };
+void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse use);
 
 }  // namespace mvox

@@ -22,6 +22,8 @@ struct ExtractArguments {
   bool quiet = false;
   EngineChoice engine;
   PlyChoice ply;
+  bool normals = false;
+  PictureChoice picture;
 };
 
 std::string input_label(const std::vector<std::string>& inputs) {
@@ -52,6 +54,8 @@ void run_extract(const ExtractArguments& args) {
                 args.threshold, engine_kind_name(job.engine.kind),
                 surface_rule_name(job.engine.rule));
   job.ply = ply_writer_options(args.ply, info.spacing, info.origin, comment);
+  job.normals = args.normals;
+  job.picture = args.picture.options();
   run_mesh_job(*source, job);
 }
 
@@ -61,7 +65,8 @@ void add_extract_command(CLI::App& app) {
   auto args = std::make_shared<ExtractArguments>();
   CLI::App* command = app.add_subcommand(
       "extract",
-      "Extract the surface at threshold D (inner voxels: value >= D) and write it as PLY");
+      "Extract the surface at threshold D (inner voxels: value >= D) and write it as PLY, "
+      "a shaded picture, or both");
   command
       ->add_option("INPUT", args->inputs,
                    "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images, raw slice "
@@ -70,13 +75,17 @@ void add_extract_command(CLI::App& app) {
   command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
       ->required()
       ->check(finite_number());
-  command->add_option("-o,--output", args->output, "Output PLY file ('-' for standard output)")
-      ->required();
+  command->add_option("-o,--output", args->output,
+                      "Output PLY file ('-' for standard output); may be left out with --image");
   command->add_option("--raw", args->raw_spec,
                       "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
                       "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le");
   add_engine_options(*command, args->engine);
   add_ply_options(*command, args->ply);
+  command->add_flag("--normals", args->normals,
+                    "Write smooth outward normals (nx, ny, nz; from the density gradient) into the "
+                    "PLY");
+  add_picture_options(*command, args->picture, PictureUse::extraction);
   command->add_option("--stats", args->stats_path,
                       "Also write a JSON report: dimensions, counts, time per phase, peak memory");
   command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");

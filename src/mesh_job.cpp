@@ -9,6 +9,7 @@
 #include "output_file.h"
 #include "peak_memory.h"
 #include "pipeline.h"
+#include "normal_window.h"
 #include "progress.h"
 
 namespace mvox {
@@ -33,7 +34,8 @@ void print_summary(const RunReport& r) {
   const EngineCounters& c = r.result.counters;
   const PhaseTimes& t = r.result.times;
   const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
-  std::fprintf(stderr, "%s: %s vertices, %s polygons (", r.output.c_str(),
+  const std::string& named = r.output.empty() ? r.image : r.output;
+  std::fprintf(stderr, "%s: %s vertices, %s polygons (", named.c_str(),
                grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
   for (int size = 3; size <= kMaxPolygonVertices; ++size)
     std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
@@ -41,15 +43,19 @@ void print_summary(const RunReport& r) {
   std::fprintf(
       stderr,
       ")\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
-      "(%.0f Mvoxel/s), write %.3f s\n  peak memory %.1f MiB, of which %.1f MiB for this job "
+      "(%.0f Mvoxel/s), write %.3f s, render %.3f s\n  peak memory %.1f MiB, of which %.1f MiB for this job "
       "(the rest is libraries)\n",
       r.volume.width, r.volume.height, static_cast<unsigned long long>(c.slices),
       sample_type_name(r.volume.type), r.threshold, t.read_s, t.extract_s,
-      t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s,
+      t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s, t.render_s,
       static_cast<double>(r.peak_memory_bytes) / (1 << 20),
       static_cast<double>(r.peak_memory_bytes -
                           std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
           (1 << 20));
+  if (!r.image.empty())
+    std::fprintf(stderr, "  picture %s: %s triangles drawn, %s facing away\n", r.image.c_str(),
+                 grouped(r.render.triangles_drawn).c_str(),
+                 grouped(r.render.triangles_culled).c_str());
 }
 
 }  // namespace
@@ -59,37 +65,80 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   report.start_memory_bytes = current_resident_bytes();
   report.input = job.input_label;
   report.output = job.output;
+  report.image = job.picture.image_path;
   report.volume = source.info();
   report.threshold = job.threshold;
   report.method = "voxels";
   report.engine = engine_kind_name(job.engine.kind);
   report.surface = surface_rule_name(job.engine.rule);
 
+  const bool want_mesh = !job.output.empty();
+  const bool want_picture = job.picture.wanted();
+  if (!want_mesh && !want_picture)
+    throw Error(job.input_label, "nothing to write: give -o mesh.ply, --image picture.png or both");
+  if (job.normals && !want_mesh) throw Error("--normals", "needs a mesh output (-o)");
+  // Two outputs on one path would overwrite each other when they appear.
+  const std::string* paths[] = {&job.output, &job.picture.image_path, &job.stats_path};
+  const char* names[] = {"the mesh output", "the image", "the --stats report"};
+  for (int i = 0; i < 3; ++i)
+    for (int k = i + 1; k < 3; ++k)
+      if (!paths[i]->empty() && *paths[i] == *paths[k] && *paths[i] != "-")
+        throw Error(*paths[k], std::string("is both ") + names[i] + " and " + names[k]);
+
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
-  if (!job.stats_path.empty() && job.stats_path == job.output)
-    throw Error("--stats", "'" + job.stats_path + "' is also the mesh output");
-  PlyWriter writer(job.output, job.ply);
+  std::optional<NormalWindow> normal_window;
+  if (job.normals || (want_picture && job.picture.smooth))
+    normal_window.emplace(report.volume, job.ply.spacing, job.input_label);
+  const VertexNormals* normals = normal_window ? &normal_window->normals() : nullptr;
+  std::optional<PlyWriter> writer;
+  if (want_mesh) {
+    PlyWriterOptions ply = job.ply;
+    ply.normals = job.normals ? normals : nullptr;
+    writer.emplace(job.output, ply);
+  }
+  std::optional<SurfacePicture> picture;
+  if (want_picture)
+    picture.emplace(report.volume, job.ply.spacing, job.ply.origin, normals, job.picture);
   std::optional<OutputFile> stats_file;
   if (!job.stats_path.empty()) stats_file.emplace(job.stats_path);
+
+  PipelineSinks sinks;
+  if (writer) sinks.mesh = &*writer;
+  if (picture) sinks.render = &picture->sink();
+  if (normal_window) sinks.window = &normal_window->window();
   {
     ProgressLine progress("extracting", report.volume.depth,
                           !job.quiet && ProgressLine::stderr_is_terminal());
-    report.result = run_pipeline(source, job.threshold, job.engine, writer, job.input_label,
-                                 [&progress](std::uint32_t done) { progress.update(done); });
+    report.result = run_pipeline(source, job.threshold, job.engine, sinks, job.input_label,
+                                 [&](std::uint32_t done) {
+                                   progress.update(done);
+                                   if (picture) picture->after_slice(done);
+                                 });
   }
-  if (report.result.status == Status::sink_refused && writer.error()) throw *writer.error();
+  if (report.result.status == Status::sink_refused && writer && writer->error())
+    throw *writer->error();
   if (report.result.status != Status::ok)
     throw Error(job.input_label,
                 std::string("extraction failed: ") + status_message(report.result.status));
 
-  const auto finish_start = std::chrono::steady_clock::now();
-  writer.complete();
-  const double finish_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - finish_start).count();
-  report.result.times.write_s += finish_s;
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  const auto write_start = Clock::now();
+  if (writer) writer->complete();
+  const double write_s = seconds_since(write_start);
+  const auto render_start = Clock::now();
+  if (picture) {
+    picture->complete(static_cast<std::uint32_t>(report.result.counters.slices));
+    report.render = picture->renderer().counters();
+  }
+  const double render_s = seconds_since(render_start);
+  report.result.times.write_s += write_s;
+  report.result.times.render_s += render_s;
   report.result.times.read_s += job.source_open_s;
-  report.result.times.total_s += finish_s + job.source_open_s;
+  report.result.times.total_s += write_s + render_s + job.source_open_s;
   report.peak_memory_bytes = peak_resident_bytes();
 
   if (stats_file) {
@@ -97,7 +146,8 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     stats_file->write(json.data(), json.size());
     stats_file->seal();
   }
-  writer.publish();
+  if (writer) writer->publish();
+  if (picture) picture->publish();
   if (stats_file) stats_file->publish();
   if (!job.quiet) print_summary(report);
   return report;

@@ -7,6 +7,7 @@
 #include "mvox/slice_source.h"
 #include "ply_writer.h"
 #include "stats_json.h"
+#include "surface_picture.h"
 
 namespace mvox {
 
@@ -14,15 +15,18 @@ struct MeshJob {
   std::string input_label;  // for messages and the report: the input as the user named it
   double threshold = 0;     // in sample units
   EngineOptions engine;
-  std::string output;  // PLY path, "-" for standard output
-  PlyWriterOptions ply;
+  std::string output;  // PLY path, "-" for standard output; empty: no mesh (a picture only)
+  PlyWriterOptions ply;  // its `normals` is set by the job when `normals` is true
+  bool normals = false;  // write gradient normals (nx, ny, nz) into the PLY
+  PictureOptions picture;
   std::string stats_path;    // empty: no report
   bool quiet = false;        // no progress line, no summary
   double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
 };
 
 // Runs the job; throws mvox::Error naming the file or stage at fault. On any failure no output
-// file is left behind (or a previous one is left untouched).
+// file is left behind (or a previous one is left untouched); the mesh, the picture and the
+// report appear together at the end. Frames, written during the run, are the exception.
 RunReport run_mesh_job(SliceSource& source, const MeshJob& job);
 
 // "123,456": large counts are easier to read with separators.

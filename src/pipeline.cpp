@@ -14,26 +14,44 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Forwards batches to the real sink and adds up the time they take there.
-class TimedSink : public PolygonSink {
+// Forwards every batch to the mesh sink and the render sink (either may be null) and adds up
+// the time each takes.
+class TimedSinks final : public PolygonSink {
  public:
-  explicit TimedSink(PolygonSink& sink) : sink_(sink) {}
+  explicit TimedSinks(const PipelineSinks& sinks) : mesh_(sinks.mesh), render_(sinks.render) {}
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
-    const auto start = Clock::now();
-    const Status status = sink_.consume_vertices(vertices, vertex_count);
-    seconds += seconds_since(start);
-    return status;
+    return both([&](PolygonSink& sink) { return sink.consume_vertices(vertices, vertex_count); });
   }
   Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
+    return both([&](PolygonSink& sink) { return sink.consume_polygons(polygons, polygon_count); });
+  }
+  Status consume_polygon_geometry(const PolygonGeometry* polygons,
+                                  std::size_t polygon_count) override {
+    return both([&](PolygonSink& sink) {
+      return sink.consume_polygon_geometry(polygons, polygon_count);
+    });
+  }
+  double mesh_seconds = 0;
+  double render_seconds = 0;
+
+ private:
+  template <class Call>
+  Status both(Call call) {
+    Status status = Status::ok;
+    if (mesh_) status = timed(*mesh_, call, mesh_seconds);
+    if (render_ && status == Status::ok) status = timed(*render_, call, render_seconds);
+    return status;
+  }
+  template <class Call>
+  static Status timed(PolygonSink& sink, Call& call, double& seconds) {
     const auto start = Clock::now();
-    const Status status = sink_.consume_polygons(polygons, polygon_count);
+    const Status status = call(sink);
     seconds += seconds_since(start);
     return status;
   }
-  double seconds = 0;
 
- private:
-  PolygonSink& sink_;
+  PolygonSink* mesh_;
+  PolygonSink* render_;
 };
 
 // Times the source's next_slice() calls.
@@ -58,14 +76,24 @@ class TimedSource : public SliceSource {
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
                             PolygonSink& sink, const std::string& input_label,
                             const SliceProgress& progress) {
+  PipelineSinks sinks;
+  sinks.mesh = &sink;
+  return run_pipeline(source, threshold, options, sinks, input_label, progress);
+}
+
+PipelineResult run_pipeline(SliceSource& source, double threshold,
+                            const EngineOptions& requested_options, const PipelineSinks& sinks,
+                            const std::string& input_label, const SliceProgress& progress) {
   const VolumeInfo& info = source.info();
+  EngineOptions options = requested_options;
+  if (sinks.render) options.polygon_geometry = true;
   PipelineResult result;
   result.workspace_bytes = engine_workspace_bytes(info.width, info.height, options);
   if (result.workspace_bytes == 0)
     throw Error(input_label, "slices of " + std::to_string(info.width) + "x" +
                                  std::to_string(info.height) + " voxels are too large to extract");
   WorkspaceBuffer workspace(result.workspace_bytes);
-  TimedSink timed_sink(sink);
+  TimedSinks timed_sink(sinks);
   Engine engine;
   const Status init = engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
                                   threshold, options, &timed_sink);
@@ -74,11 +102,22 @@ PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineO
 
   TimedSource timed_source(source);
   const auto start = Clock::now();
-  result.status = stream_volume(timed_source, engine, progress);
+  // Progress callbacks (frames of the picture, a live window) count as rendering.
+  double progress_seconds = 0;
+  SliceProgress timed_progress;
+  if (progress)
+    timed_progress = [&](std::uint32_t slices_done) {
+      const auto progress_start = Clock::now();
+      progress(slices_done);
+      progress_seconds += seconds_since(progress_start);
+    };
+  result.status = stream_volume(timed_source, engine, timed_progress, sinks.window);
   result.times.total_s = seconds_since(start);
   result.times.read_s = timed_source.seconds;
-  result.times.write_s = timed_sink.seconds;
-  result.times.extract_s = result.times.total_s - result.times.read_s - result.times.write_s;
+  result.times.write_s = timed_sink.mesh_seconds;
+  result.times.render_s = timed_sink.render_seconds + progress_seconds;
+  result.times.extract_s = result.times.total_s - result.times.read_s - result.times.write_s -
+                           result.times.render_s;
   result.counters = engine.counters();
   return result;
 }

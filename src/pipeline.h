@@ -13,7 +13,8 @@ namespace mvox {
 struct PhaseTimes {
   double read_s = 0;     // inside the slice source: file reading, decoding, byte swapping
   double extract_s = 0;  // inside the engine, minus the time its sink took
-  double write_s = 0;    // inside the sink (mesh writer, renderer...)
+  double write_s = 0;    // inside the mesh sink (writing the mesh)
+  double render_s = 0;   // inside the render sink (drawing the picture), plus frames written
   double total_s = 0;    // wall clock from the first slice to the engine's finish()
 };
 
@@ -24,9 +25,23 @@ struct PipelineResult {
   std::size_t workspace_bytes = 0;
 };
 
-// Streams every slice of `source` through a new engine into `sink` and finishes the volume.
-// Throws mvox::Error naming `input_label` when the engine refuses the source (for example
+// Where the engine's output goes; every member may be null.
+struct PipelineSinks {
+  PolygonSink* mesh = nullptr;    // timed as write_s
+  PolygonSink* render = nullptr;  // timed as render_s; gets polygons by value
+  // Feeds the engine one slice behind the source, for gradient normals (sim/stream.h).
+  SliceWindow* window = nullptr;
+};
+
+// Streams every slice of `source` through a new engine into the sinks and finishes the volume.
+// The engine sends polygons by value (EngineOptions::polygon_geometry) when there is a render
+// sink. Throws mvox::Error naming `input_label` when the engine refuses the source (for example
 // slices too large to address).
+PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
+                            const PipelineSinks& sinks, const std::string& input_label,
+                            const SliceProgress& progress = {});
+
+// The same with one mesh sink.
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
                             PolygonSink& sink, const std::string& input_label,
                             const SliceProgress& progress = {});

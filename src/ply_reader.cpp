@@ -65,7 +65,7 @@ bool is_integer(ScalarType type) {
 }
 
 // What the reader does with a property's values.
-enum class Role : std::uint8_t { skip, x, y, z, vertex_indices };
+enum class Role : std::uint8_t { skip, x, y, z, nx, ny, nz, vertex_indices };
 
 struct Property {
   std::string name;
@@ -89,6 +89,7 @@ struct Header {
   Format format = Format::ascii;
   std::vector<Element> elements;
   std::uint64_t vertex_count = 0;
+  bool vertex_normals = false;  // nx, ny, nz are read
   std::size_t body_offset = 0;
 };
 
@@ -267,6 +268,17 @@ class HeaderParser {
             throw Error(name_, "vertex property " + quoted(kAxisNames[axis]) + " is a list");
           }
           found->role = kAxisRoles[axis];
+        }
+        // Normals are read only when all three are scalar properties; otherwise skipped.
+        static constexpr std::string_view kNormalNames[3] = {"nx", "ny", "nz"};
+        static constexpr Role kNormalRoles[3] = {Role::nx, Role::ny, Role::nz};
+        Property* normal[3] = {};
+        for (int axis = 0; axis < 3; ++axis)
+          for (Property& property : element.properties)
+            if (property.name == kNormalNames[axis] && !property.is_list) normal[axis] = &property;
+        if (normal[0] && normal[1] && normal[2]) {
+          header_.vertex_normals = true;
+          for (int axis = 0; axis < 3; ++axis) normal[axis]->role = kNormalRoles[axis];
         }
       } else if (element.name == "face") {
         element.is_face = true;
@@ -521,11 +533,13 @@ void parse_body(Cursor& in, Position& position, const Header& header, PlyMesh& m
                          " elements, more than the rest of the file can hold");
     }
     if (element.is_vertex) mesh.positions.reserve(element.count);
+    if (element.is_vertex && header.vertex_normals) mesh.normals.reserve(element.count);
     if (element.is_face) mesh.face_offsets.reserve(element.count + 1);
 
     for (std::uint64_t index = 0; index < element.count; ++index) {
       position.at(element, index);
       std::array<float, 3> point = {0, 0, 0};
+      std::array<float, 3> normal = {0, 0, 0};
       for (const Property& property : element.properties) {
         switch (property.role) {
           case Role::skip:
@@ -550,6 +564,17 @@ void parse_body(Cursor& in, Position& position, const Header& header, PlyMesh& m
                 static_cast<float>(value);
             break;
           }
+          case Role::nx:
+          case Role::ny:
+          case Role::nz: {
+            const double value = in.read_real(property.type);
+            if (!(std::fabs(value) <= std::numeric_limits<float>::max())) {
+              position.fail("normal " + property.name + " is not a finite float");
+            }
+            normal[static_cast<int>(property.role) - static_cast<int>(Role::nx)] =
+                static_cast<float>(value);
+            break;
+          }
           case Role::vertex_indices: {
             const std::int64_t count = in.read_integer(property.count_type);
             if (count <= 0) position.fail("face with " + std::to_string(count) + " vertices");
@@ -567,6 +592,7 @@ void parse_body(Cursor& in, Position& position, const Header& header, PlyMesh& m
         }
       }
       if (element.is_vertex) mesh.positions.push_back(point);
+      if (element.is_vertex && header.vertex_normals) mesh.normals.push_back(normal);
       if (element.is_face) {
         if (mesh.face_indices.size() > std::numeric_limits<std::uint32_t>::max()) {
           position.fail("more than 2^32 - 1 face indices in all");

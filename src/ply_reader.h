@@ -15,6 +15,8 @@ namespace mvox {
 // face_offsets has face_count() + 1 entries and starts with 0. Every index is < vertex_count().
 struct PlyMesh {
   std::vector<std::array<float, 3>> positions;
+  // One per vertex when the file has scalar properties nx, ny and nz; otherwise empty.
+  std::vector<std::array<float, 3>> normals;
   std::vector<std::uint32_t> face_offsets = {0};
   std::vector<std::uint32_t> face_indices;
 
@@ -28,8 +30,9 @@ PlyMesh read_ply(const std::string& path);
 
 // Parses a whole PLY file held in `data` (`size` bytes; need not be null-terminated).
 // Accepted: format ascii, binary_little_endian or binary_big_endian 1.0; an element "vertex"
-// with scalar properties x, y and z of any type (converted to float; other properties, lists
-// included, are skipped); an optional element "face" with an integer list property
+// with scalar properties x, y and z of any type (converted to float), and optionally nx, ny
+// and nz (read as normals when all three are there; other properties, lists included, are
+// skipped); an optional element "face" with an integer list property
 // "vertex_indices" or "vertex_index" (other properties skipped); any other elements, skipped.
 // Refused with mvox::Error(name_for_errors, problem): a missing "ply" line, a bad or missing
 // format line, unknown header keywords or types, duplicate elements or properties, element

@@ -47,6 +47,7 @@ std::string header_lines(const PlyWriterOptions& options, std::uint64_t vertex_c
   for (const std::string& comment : options.comments) text += "comment " + comment + "\n";
   text += "element vertex " + std::to_string(vertex_count) + "\n";
   text += "property float x\nproperty float y\nproperty float z\n";
+  if (options.normals) text += "property float nx\nproperty float ny\nproperty float nz\n";
   text += "element face " + std::to_string(face_count) + "\n";
   text += "property list uchar int vertex_indices\n";
   return text;
@@ -130,12 +131,20 @@ void PlyWriter::write_vertices(Sink& sink, const Vertex* vertices, std::size_t v
   const std::array<double, 3>& spacing = options_.spacing;
   const std::array<double, 3>& origin = options_.origin;
   const bool ascii = options_.format == PlyFormat::ascii;
+  const bool with_normals = options_.normals != nullptr;
+  if (with_normals) {
+    normal_batch_.resize(vertex_count);
+    options_.normals->compute(vertices, vertex_count, normal_batch_.data());
+  }
   for (std::size_t i = 0; i < vertex_count; ++i) {
     const Vertex& vertex = vertices[i];
     const double position[3] = {origin[0] + spacing[0] * vertex.x,
                                 origin[1] + spacing[1] * vertex.y,
                                 origin[2] + spacing[2] * vertex.z};
-    float written[3];
+    float written[6];
+    const int fields = with_normals ? 6 : 3;
+    if (with_normals)
+      for (int axis = 0; axis < 3; ++axis) written[3 + axis] = normal_batch_[i][axis];
     for (int axis = 0; axis < 3; ++axis) {
       // Converting a double beyond float's range is undefined behaviour, so check first.
       if (!(std::fabs(position[axis]) <= std::numeric_limits<float>::max())) {
@@ -146,18 +155,18 @@ void PlyWriter::write_vertices(Sink& sink, const Vertex* vertices, std::size_t v
     }
     if (ascii) {
       // Shortest representation that reads back to the same float.
-      char line[64];
+      char line[128];
       char* end = line;
-      for (int axis = 0; axis < 3; ++axis) {
-        end = std::to_chars(end, line + sizeof line, written[axis]).ptr;
-        *end++ = axis < 2 ? ' ' : '\n';
+      for (int field = 0; field < fields; ++field) {
+        end = std::to_chars(end, line + sizeof line, written[field]).ptr;
+        *end++ = field + 1 < fields ? ' ' : '\n';
       }
       sink.write(line, static_cast<std::size_t>(end - line));
     } else {
-      unsigned char record[12];
+      unsigned char record[24];
       unsigned char* end = record;
-      for (int axis = 0; axis < 3; ++axis) end = store_le32(end, float_bits(written[axis]));
-      sink.write(record, sizeof record);
+      for (int field = 0; field < fields; ++field) end = store_le32(end, float_bits(written[field]));
+      sink.write(record, static_cast<std::size_t>(end - record));
     }
     ++vertex_count_;
   }

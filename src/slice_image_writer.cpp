@@ -7,7 +7,40 @@
 
 namespace mvox {
 
+namespace {
+
+std::string extension_of(const std::string& path) {
+  const std::size_t dot = path.rfind('.');
+  const std::size_t slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  return path.substr(dot);
+}
+
+}  // namespace
+
+void check_image_extension(const std::string& path) {
+  const std::string extension = extension_of(path);
+  bool ok = false;
+  try {
+    ok = !extension.empty() && cv::haveImageWriter("image" + extension);
+  } catch (const cv::Exception&) {
+    ok = false;
+  }
+  if (!ok)
+    throw Error(path, extension.empty()
+                          ? "no image type: name the file .png, .pgm, .tif, .bmp or .jpg"
+                          : "cannot write '" + extension +
+                                "' images: use .png, .pgm, .tif, .bmp or .jpg");
+}
+
 void write_slice_image(const std::string& path, const SliceView& slice) {
+  const std::vector<unsigned char> encoded = encode_slice_image(path, slice);
+  OutputFile file(path);
+  file.write(encoded.data(), encoded.size());
+  file.commit();
+}
+
+std::vector<unsigned char> encode_slice_image(const std::string& path, const SliceView& slice) {
   if (slice.type != SampleType::u8 && slice.type != SampleType::u16)
     throw Error(path, std::string("cannot write ") + sample_type_name(slice.type) +
                           " samples as an image (only 8- and 16-bit)");
@@ -15,8 +48,7 @@ void write_slice_image(const std::string& path, const SliceView& slice) {
   // OpenCV only reads the pixels; the const_cast is how its Mat wraps external memory.
   const cv::Mat image(static_cast<int>(slice.height), static_cast<int>(slice.width), cv_type,
                       const_cast<void*>(slice.samples), slice.row_stride_bytes);
-  const std::size_t dot = path.rfind('.');
-  const std::string extension = dot == std::string::npos ? "" : path.substr(dot);
+  const std::string extension = extension_of(path);
   std::vector<unsigned char> encoded;
   bool ok = false;
   try {
@@ -27,9 +59,7 @@ void write_slice_image(const std::string& path, const SliceView& slice) {
   if (!ok)
     throw Error(path, "cannot encode a " + std::string(sample_type_name(slice.type)) +
                           " image with extension '" + extension + "'");
-  OutputFile file(path);
-  file.write(encoded.data(), encoded.size());
-  file.commit();
+  return encoded;
 }
 
 }  // namespace mvox

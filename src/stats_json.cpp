@@ -45,6 +45,7 @@ std::string run_report_json(const RunReport& r) {
   out << "{\n"
       << "  \"input\": " << json_string(r.input) << ",\n"
       << "  \"output\": " << json_string(r.output) << ",\n"
+      << "  \"image\": " << json_string(r.image) << ",\n"
       << "  \"dimensions\": [" << r.volume.width << ", " << r.volume.height << ", " << c.slices
       << "],\n"
       << "  \"sample_type\": " << json_string(sample_type_name(r.volume.type)) << ",\n"
@@ -63,9 +64,12 @@ std::string run_report_json(const RunReport& r) {
   out << "},\n"
       << "  \"time_seconds\": {\"read\": " << number(t.read_s)
       << ", \"extract\": " << number(t.extract_s) << ", \"write\": " << number(t.write_s)
-      << ", \"total\": " << number(t.total_s) << "},\n"
+      << ", \"render\": " << number(t.render_s) << ", \"total\": " << number(t.total_s) << "},\n"
       << "  \"extract_mvoxels_per_second\": "
       << number(t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0) << ",\n"
+      << "  \"render\": {\"triangles_drawn\": " << r.render.triangles_drawn
+      << ", \"triangles_culled\": " << r.render.triangles_culled
+      << ", \"fragments_written\": " << r.render.fragments_written << "},\n"
       << "  \"engine_workspace_bytes\": " << r.result.workspace_bytes << ",\n"
       << "  \"start_memory_bytes\": " << r.start_memory_bytes << ",\n"
       << "  \"peak_memory_bytes\": " << r.peak_memory_bytes << ",\n"

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mvox/slice_source.h"
+#include "mvox/zbuffer_renderer.h"
 #include "pipeline.h"
 
 namespace mvox {
@@ -11,6 +12,8 @@ namespace mvox {
 struct RunReport {
   std::string input;   // as the user gave it
   std::string output;  // mesh file, or empty
+  std::string image;   // picture file, or empty
+  RenderCounters render;  // what the renderer drew (zero without a picture)
   VolumeInfo volume;
   double threshold = 0;
   std::string method;   // "voxels"

@@ -365,20 +365,38 @@ inline std::uint32_t cube_edge_index(const EngineState& st, int lo, int hi, int 
   }
 }
 
-// The vertex on cube edge `e` of cube (cx, cy) in the layer between slices z - 1 and z, whose
-// corners are inner where `config` has a bit (cube.h): what PASS 2 emitted for that edge.
-inline Vertex cube_edge_vertex(int e, std::uint32_t cx, std::uint32_t cy, std::uint32_t z,
-                               unsigned config) {
+// Where the vertex of each cube edge sits relative to the cube's lowest voxel, and which
+// corner is the edge's lower end: cube.h's geometry as a table, built at compile time.
+struct EdgePlacement {
+  float dx, dy, dz;
+  Axis axis;
+  std::uint8_t low_corner;
+};
+
+constexpr EdgePlacement edge_placement(int e) {
   const int low = cube::edge_low_corner(e);
   const int axis = cube::edge_axis(e);
+  return {static_cast<float>(cube::corner_bit(low, 0)) + (axis == 0 ? 0.5f : 0.0f),
+          static_cast<float>(cube::corner_bit(low, 1)) + (axis == 1 ? 0.5f : 0.0f),
+          static_cast<float>(cube::corner_bit(low, 2)) + (axis == 2 ? 0.5f : 0.0f),
+          static_cast<Axis>(axis), static_cast<std::uint8_t>(low)};
+}
+
+constexpr EdgePlacement kEdgePlacements[cube::kEdges] = {
+    edge_placement(0), edge_placement(1), edge_placement(2),  edge_placement(3),
+    edge_placement(4), edge_placement(5), edge_placement(6),  edge_placement(7),
+    edge_placement(8), edge_placement(9), edge_placement(10), edge_placement(11)};
+
+// The vertex on cube edge `e` of the cube whose lowest voxel is (x0, y0, z0) and whose corners
+// are inner where `config` has a bit (cube.h): what PASS 2 emitted for that edge.
+inline Vertex cube_edge_vertex(int e, float x0, float y0, float z0, unsigned config) {
+  const EdgePlacement& placement = kEdgePlacements[e];
   Vertex v;
-  // Corner bit 0 is voxel cx - 1 (cy - 1, z - 1); the vertex is half a voxel along the edge.
-  v.x = static_cast<float>(cx) - 1.0f + static_cast<float>(cube::corner_bit(low, 0));
-  v.y = static_cast<float>(cy) - 1.0f + static_cast<float>(cube::corner_bit(low, 1));
-  v.z = static_cast<float>(z) - 1.0f + static_cast<float>(cube::corner_bit(low, 2));
-  (axis == 0 ? v.x : axis == 1 ? v.y : v.z) += 0.5f;
-  v.axis = static_cast<Axis>(axis);
-  v.inner_is_lower = (config >> low & 1) != 0;
+  v.x = x0 + placement.dx;
+  v.y = y0 + placement.dy;
+  v.z = z0 + placement.dz;
+  v.axis = placement.axis;
+  v.inner_is_lower = (config >> placement.low_corner & 1) != 0;
   return v;
 }
 
@@ -391,9 +409,12 @@ bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uin
     for (int i = 0; i < out.vertex_count; ++i)
       out.vertices[i] = cube_edge_index(st, lo, hi, polygons.edges[offset + i], cx, cy);
     if (PolygonGeometry* geometry = emitter.next_geometry()) {
+      // Cube cx holds voxel columns cx - 1 and cx; likewise rows and slices.
+      const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
+      const float z0 = static_cast<float>(z) - 1.0f;
       geometry->vertex_count = out.vertex_count;
       for (int i = 0; i < out.vertex_count; ++i)
-        geometry->vertices[i] = cube_edge_vertex(polygons.edges[offset + i], cx, cy, z, config);
+        geometry->vertices[i] = cube_edge_vertex(polygons.edges[offset + i], x0, y0, z0, config);
     }
     offset += out.vertex_count;
     if (!emitter.commit_polygon()) return false;

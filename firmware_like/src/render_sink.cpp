@@ -26,8 +26,10 @@ Status RenderSink::consume_polygon_geometry(const PolygonGeometry* polygons,
       const Vertex& v = polygon.vertices[i];
       positions[i] = origin_ + spacing_ * glm::vec3(v.x, v.y, v.z);
     }
+    // Normals cost more than the test, and most polygons change no pixel.
+    if (!renderer_.project_polygon(positions, count)) continue;
     if (normals_) normals_->compute(polygon.vertices, static_cast<std::size_t>(count), normals);
-    renderer_.draw_polygon(positions, normals_ ? normals : nullptr, count);
+    renderer_.draw_projected(normals_ ? normals : nullptr);
   }
   return Status::ok;
 }

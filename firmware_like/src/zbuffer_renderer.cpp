@@ -18,7 +18,6 @@ namespace {
 constexpr int kSubpixelBits = 8;
 constexpr std::int64_t kSubpixel = std::int64_t{1} << kSubpixelBits;
 constexpr std::int64_t kHalfPixel = kSubpixel / 2;
-constexpr int kMaxPolygonVerticesDrawn = 16;
 // Vertices may lie this far outside the image (in pixels) and still be drawn; beyond it the
 // polygon is dropped. Keeps fixed-point edge products far inside 64 bits.
 constexpr float kGuardBandPixels = 32768.0f;
@@ -55,12 +54,6 @@ struct Edge {
 };
 
 }  // namespace
-
-struct ZBufferRenderer::ScreenVertex {
-  std::int64_t x = 0, y = 0;  // pixels * kSubpixel, y down
-  float depth = 0;            // 0 (near) .. 1 (far)
-  glm::vec3 normal{0.0f};     // view space, divided by clip w: interpolates perspective-correctly
-};
 
 std::size_t zbuffer_workspace_bytes(std::uint32_t width, std::uint32_t height) {
   if (width == 0 || height == 0 || width > kMaxImageSide || height > kMaxImageSide) return 0;
@@ -103,9 +96,13 @@ void ZBufferRenderer::clear() {
 
 void ZBufferRenderer::draw_polygon(const glm::vec3* positions, const glm::vec3* normals,
                                    int vertex_count) {
-  if (!depth_ || vertex_count < 3 || vertex_count > kMaxPolygonVerticesDrawn) return;
+  if (project_polygon(positions, vertex_count)) draw_projected(normals);
+}
+
+bool ZBufferRenderer::project_polygon(const glm::vec3* positions, int vertex_count) {
+  projected_count_ = 0;
+  if (!depth_ || vertex_count < 3 || vertex_count > kMaxVerticesDrawn) return false;
   ++counters_.polygons;
-  ScreenVertex v[kMaxPolygonVerticesDrawn];
   const glm::mat4& to_clip = camera_.world_to_clip;
   const float half_width = 0.5f * static_cast<float>(width_);
   const float half_height = 0.5f * static_cast<float>(height_);
@@ -113,37 +110,53 @@ void ZBufferRenderer::draw_polygon(const glm::vec3* positions, const glm::vec3* 
     const glm::vec4 clip = to_clip * glm::vec4(positions[i], 1.0f);
     if (!(clip.w > 1e-20f)) {  // behind the eye (perspective), or NaN
       ++counters_.polygons_clipped;
-      return;
+      return false;
     }
-    const float inverse_w = 1.0f / clip.w;
-    const float sx = (clip.x * inverse_w + 1.0f) * half_width;
-    const float sy = (1.0f - clip.y * inverse_w) * half_height;
+    ScreenVertex& v = projected_[i];
+    v.inverse_w = 1.0f / clip.w;
+    const float sx = (clip.x * v.inverse_w + 1.0f) * half_width;
+    const float sy = (1.0f - clip.y * v.inverse_w) * half_height;
     if (!(std::fabs(sx - half_width) < kGuardBandPixels &&
           std::fabs(sy - half_height) < kGuardBandPixels)) {
       ++counters_.polygons_clipped;
-      return;
+      return false;
     }
-    v[i].x = std::llround(sx * kSubpixel);
-    v[i].y = std::llround(sy * kSubpixel);
-    v[i].depth = 0.5f * (clip.z * inverse_w + 1.0f);
-    if (normals) v[i].normal = camera_.world_to_view * normals[i] * inverse_w;
+    // Round to the subpixel grid (the guard band keeps this far inside int64).
+    v.x = static_cast<std::int64_t>(std::floor(sx * kSubpixel + 0.5f));
+    v.y = static_cast<std::int64_t>(std::floor(sy * kSubpixel + 0.5f));
+    v.depth = 0.5f * (clip.z * v.inverse_w + 1.0f);
+    projected_positions_[i] = positions[i];
   }
-  for (int i = 1; i + 1 < vertex_count; ++i) {
-    if (normals) {
-      draw_triangle(v[0], v[i], v[i + 1]);
-    } else {
-      // Flat: the triangle's own normal at its three corners.
-      const glm::vec3 n = camera_.world_to_view *
-                          glm::cross(positions[i] - positions[0], positions[i + 1] - positions[0]);
-      ScreenVertex a = v[0], b = v[i], c = v[i + 1];
-      a.normal = b.normal = c.normal = n;
-      draw_triangle(a, b, c);
-    }
+  projected_count_ = vertex_count;
+  // Would any pixel be written? The same traversal as drawing, without writing or shading.
+  for (int i = 1; i + 1 < vertex_count; ++i)
+    if (draw_triangle(projected_[0], projected_[i], projected_[i + 1], false)) return true;
+  return false;
+}
+
+void ZBufferRenderer::draw_projected(const glm::vec3* normals) {
+  const int count = projected_count_;
+  projected_count_ = 0;
+  if (count < 3) return;
+  if (normals) {
+    for (int i = 0; i < count; ++i)
+      projected_[i].normal = camera_.world_to_view * normals[i] * projected_[i].inverse_w;
+    for (int i = 1; i + 1 < count; ++i)
+      draw_triangle(projected_[0], projected_[i], projected_[i + 1], true);
+    return;
+  }
+  const glm::vec3* p = projected_positions_;
+  for (int i = 1; i + 1 < count; ++i) {
+    // Flat: the triangle's own normal at its three corners.
+    const glm::vec3 n = camera_.world_to_view * glm::cross(p[i] - p[0], p[i + 1] - p[0]);
+    ScreenVertex a = projected_[0], b = projected_[i], c = projected_[i + 1];
+    a.normal = b.normal = c.normal = n;
+    draw_triangle(a, b, c, true);
   }
 }
 
-void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b,
-                                    const ScreenVertex& c) {
+bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b,
+                                    const ScreenVertex& c, bool write) {
   const ScreenVertex* v0 = &a;
   const ScreenVertex* v1 = &b;
   const ScreenVertex* v2 = &c;
@@ -152,8 +165,8 @@ void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
   if (area <= 0) {
     if (area == 0 || lighting_.cull_back_faces) {
-      ++counters_.triangles_culled;
-      return;
+      if (write) ++counters_.triangles_culled;
+      return false;
     }
     const ScreenVertex* swap = v1;
     v1 = v2;
@@ -172,8 +185,8 @@ void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   const std::int64_t first_y = std::max<std::int64_t>(0, ceil_div(min_y - kHalfPixel, kSubpixel));
   const std::int64_t last_y =
       std::min<std::int64_t>(height_ - 1, floor_div(max_y - kHalfPixel, kSubpixel));
-  ++counters_.triangles_drawn;
-  if (first_x > last_x || first_y > last_y) return;
+  if (write) ++counters_.triangles_drawn;
+  if (first_x > last_x || first_y > last_y) return false;
 
   const std::int64_t start_x = first_x * kSubpixel + kHalfPixel;
   const std::int64_t start_y = first_y * kSubpixel + kHalfPixel;
@@ -187,6 +200,7 @@ void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   const glm::vec3 normal_1 = v1->normal - v0->normal, normal_2 = v2->normal - v0->normal;
   const float cosine_scale = static_cast<float>(kShadeLevels - 1);
 
+  bool any_written = false;
   std::int64_t row_w0 = e0.at_start, row_w1 = e1.at_start, row_w2 = e2.at_start;
   for (std::int64_t py = first_y; py <= last_y; ++py) {
     std::int64_t w0 = row_w0, w1 = row_w1, w2 = row_w2;
@@ -194,11 +208,17 @@ void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
     std::uint8_t* shade_row = shade_ + static_cast<std::size_t>(py) * width_;
     for (std::int64_t px = first_x; px <= last_x; ++px) {
       if ((w0 | w1 | w2) >= 0) {
-        ++counters_.fragments_covered;
         const float l1 = static_cast<float>(w1 - e1.bias) * inverse_area;
         const float l2 = static_cast<float>(w2 - e2.bias) * inverse_area;
         const float depth = v0->depth + l1 * depth_1 + l2 * depth_2;
-        if (depth < depth_row[px] && depth >= 0.0f && depth <= 1.0f) {
+        const bool nearer = depth < depth_row[px] && depth >= 0.0f && depth <= 1.0f;
+        if (!write) {
+          if (nearer) return true;
+        } else {
+          ++counters_.fragments_covered;
+        }
+        if (write && nearer) {
+          any_written = true;
           ++counters_.fragments_written;
           depth_row[px] = depth;
           const glm::vec3 n = v0->normal + l1 * normal_1 + l2 * normal_2;
@@ -218,6 +238,7 @@ void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
     row_w1 += e1.step_y;
     row_w2 += e2.step_y;
   }
+  return any_written;
 }
 
 }  // namespace mvox

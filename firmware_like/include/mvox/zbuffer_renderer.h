@@ -70,6 +70,14 @@ class ZBufferRenderer {
   // are ignored.
   void draw_polygon(const glm::vec3* positions, const glm::vec3* normals, int vertex_count);
 
+  // draw_polygon() in two steps, so that a caller can skip computing normals for polygons that
+  // would not change the picture (most of them: facing away, between pixel centres, or hidden
+  // behind what is already drawn). project_polygon() returns true when at least one pixel
+  // would be written; then draw_projected() draws that polygon with `normals` (or flat, with
+  // nullptr). The image is the same as with draw_polygon().
+  bool project_polygon(const glm::vec3* positions, int vertex_count);
+  void draw_projected(const glm::vec3* normals);
+
   // The picture: width() * height() bytes, row by row from the top.
   const std::uint8_t* pixels() const { return shade_; }
   // Depth per pixel in 0 (near) .. 1 (far); +infinity where nothing was drawn.
@@ -79,8 +87,17 @@ class ZBufferRenderer {
   const RenderCounters& counters() const { return counters_; }
 
  private:
-  struct ScreenVertex;
-  void draw_triangle(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c);
+  struct ScreenVertex {
+    std::int64_t x = 0, y = 0;  // pixels * 256, y down
+    float depth = 0;            // 0 (near) .. 1 (far)
+    float inverse_w = 1;        // 1 / clip w
+    glm::vec3 normal{0.0f};     // view space over clip w: interpolates perspective-correctly
+  };
+  static constexpr int kMaxVerticesDrawn = 16;
+  // Draws (or with `write` false, only tests) one triangle; returns whether any pixel passed
+  // the depth test.
+  bool draw_triangle(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c,
+                     bool write);
 
   static constexpr int kShadeLevels = 1024;  // lighting lookup: c quantised to 1/1023
   float* depth_ = nullptr;
@@ -91,6 +108,10 @@ class ZBufferRenderer {
   Lighting lighting_;
   std::uint8_t shade_of_cosine_[kShadeLevels] = {};
   RenderCounters counters_;
+  // The polygon between project_polygon() and draw_projected().
+  ScreenVertex projected_[kMaxVerticesDrawn];
+  glm::vec3 projected_positions_[kMaxVerticesDrawn];
+  int projected_count_ = 0;
 };
 
 }  // namespace mvox

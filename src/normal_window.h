@@ -1,0 +1,34 @@
+#pragma once
+// Gradient normals for a streamed volume, ready to use: the slice window's memory, the window
+// and the VertexNormals over it, owned together. Pass window() to the pipeline so the engine is
+// fed behind it, and normals() to the mesh writer and the renderer.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "mvox/slice_source.h"
+#include "mvox/slice_window.h"
+#include "mvox/vertex_normals.h"
+
+namespace mvox {
+
+class NormalWindow {
+ public:
+  // `spacing` is the voxel size the mesh is written with. Throws mvox::Error naming
+  // `input_label` if the slices are too large to keep four of.
+  NormalWindow(const VolumeInfo& volume, const std::array<double, 3>& spacing,
+               const std::string& input_label);
+  NormalWindow(const NormalWindow&) = delete;
+  NormalWindow& operator=(const NormalWindow&) = delete;
+
+  SliceWindow& window() { return window_; }
+  const VertexNormals& normals() const { return normals_; }
+  std::size_t workspace_bytes() const { return memory_.size(); }
+
+ private:
+  std::vector<unsigned char> memory_;
+  SliceWindow window_;
+  VertexNormals normals_;
+};
+
+}  // namespace mvox

@@ -1,0 +1,102 @@
+#include "surface_picture.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include "error.h"
+#include "slice_image_writer.h"
+
+namespace mvox {
+namespace {
+
+glm::vec3 to_vec3(const std::array<double, 3>& v) {
+  return glm::vec3(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
+}
+
+void prepare_frames_dir(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw Error(dir, "cannot create the frames directory: " + error.message());
+  if (!std::filesystem::is_directory(dir, error))
+    throw Error(dir, "frames directory is not a directory");
+}
+
+}  // namespace
+
+SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double, 3>& spacing,
+                               const std::array<double, 3>& origin,
+                               const VertexNormals* normals, const PictureOptions& options)
+    : options_(options), depth_(volume.depth) {
+  const std::size_t bytes = zbuffer_workspace_bytes(options.width, options.height);
+  if (bytes == 0)
+    throw Error("--size", "image size " + std::to_string(options.width) + "x" +
+                              std::to_string(options.height) + " is out of range (1.." +
+                              std::to_string(kMaxImageSide) + " per side)");
+  if (options.every == 0) throw Error("--every", "must be at least 1");
+  if (!options.image_path.empty()) check_image_extension(options.image_path);
+
+  VolumeInfo placed = volume;
+  for (int axis = 0; axis < 3; ++axis) {
+    placed.spacing[axis] = spacing[axis];
+    placed.origin[axis] = origin[axis];
+  }
+  glm::vec3 box_min, box_max;
+  volume_bounds(placed, &box_min, &box_max);
+  const Camera camera =
+      fit_camera(box_min, box_max, options.view, options.width, options.height);
+  memory_.resize((bytes + sizeof(float) - 1) / sizeof(float));
+  const Status status =
+      renderer_.init(memory_.data(), memory_.size() * sizeof(float), camera, options.lighting);
+  if (status != Status::ok)
+    throw Error("renderer", std::string("cannot start: ") + status_message(status));
+  sink_.emplace(renderer_, to_vec3(spacing), to_vec3(origin),
+                options.smooth ? normals : nullptr);
+
+  if (!options.frames_dir.empty()) prepare_frames_dir(options.frames_dir);
+  if (!options.image_path.empty()) image_file_.emplace(options.image_path);
+}
+
+SurfacePicture::~SurfacePicture() = default;
+
+SliceView SurfacePicture::picture() const {
+  SliceView view;
+  view.samples = renderer_.pixels();
+  view.width = renderer_.width();
+  view.height = renderer_.height();
+  view.row_stride_bytes = renderer_.width();
+  view.type = SampleType::u8;
+  return view;
+}
+
+void SurfacePicture::write_frame(std::uint32_t slices_done) {
+  if (options_.frames_dir.empty()) return;
+  // Numbered by slices done, zero-padded so that names sort in order.
+  int digits = 4;
+  for (std::uint32_t d = depth_; d >= 10000; d /= 10) ++digits;
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%0*u.png", digits, slices_done);
+  write_slice_image((std::filesystem::path(options_.frames_dir) / name).string(), picture());
+  last_frame_ = slices_done;
+}
+
+void SurfacePicture::after_slice(std::uint32_t slices_done) {
+  if (slices_done % options_.every == 0) write_frame(slices_done);
+}
+
+void SurfacePicture::complete(std::uint32_t slices) {
+  // The layer above the last slice (the top cap) is drawn by finish(), after the last
+  // after_slice(): the last frame is always the complete picture.
+  write_frame(slices);
+  if (image_file_) {
+    const std::vector<unsigned char> encoded = encode_slice_image(options_.image_path, picture());
+    image_file_->write(encoded.data(), encoded.size());
+    image_file_->seal();
+  }
+}
+
+void SurfacePicture::publish() {
+  if (image_file_) image_file_->publish();
+}
+
+}  // namespace mvox
