@@ -85,8 +85,7 @@ void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse us
       ->check(CLI::Range(-360.0f, 360.0f));
   command.add_flag("--perspective", choice.perspective,
                    "Perspective projection (default: orthographic, the volume fitted)");
-  command.add_option("--fov", choice.field_of_view_deg,
-                     "Perspective field of view in degrees")
+  command.add_option("--fov", choice.field_of_view_deg, "Perspective field of view in degrees")
       ->check(CLI::Range(1.0f, 170.0f))
       ->capture_default_str();
   command.add_flag("--flat", choice.flat,
@@ -98,8 +97,7 @@ void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse us
   command.add_option("--every", choice.every, "Slices between frames")
       ->check(CLI::Range(1u, 1u << 30))
       ->capture_default_str();
-  command.add_flag("--show", choice.show,
-                   "Show the picture growing in a window (needs a display)");
+  command.add_flag("--show", choice.show, "Show the picture growing in a window (needs a display)");
 }
 
 PictureOptions PictureChoice::options() const {

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   mvox::add_extract_command(app);
   mvox::add_demo_command(app);
   mvox::add_phantom_command(app);
+  mvox::add_render_command(app);
 
   try {
     app.parse(argc, argv);

@@ -6,10 +6,10 @@
 #include <optional>
 
 #include "error.h"
+#include "normal_window.h"
 #include "output_file.h"
 #include "peak_memory.h"
 #include "pipeline.h"
-#include "normal_window.h"
 #include "progress.h"
 
 namespace mvox {
@@ -35,23 +35,23 @@ void print_summary(const RunReport& r) {
   const PhaseTimes& t = r.result.times;
   const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
   const std::string& named = r.output.empty() ? r.image : r.output;
-  std::fprintf(stderr, "%s: %s vertices, %s polygons (", named.c_str(),
-               grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
+  std::fprintf(stderr, "%s: %s vertices, %s polygons (", named.c_str(), grouped(c.vertices).c_str(),
+               grouped(c.polygons).c_str());
   for (int size = 3; size <= kMaxPolygonVertices; ++size)
     std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
                  grouped(c.polygons_by_size[size]).c_str());
-  std::fprintf(
-      stderr,
-      ")\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
-      "(%.0f Mvoxel/s), write %.3f s, render %.3f s\n  peak memory %.1f MiB, of which %.1f MiB for this job "
-      "(the rest is libraries)\n",
-      r.volume.width, r.volume.height, static_cast<unsigned long long>(c.slices),
-      sample_type_name(r.volume.type), r.threshold, t.read_s, t.extract_s,
-      t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s, t.render_s,
-      static_cast<double>(r.peak_memory_bytes) / (1 << 20),
-      static_cast<double>(r.peak_memory_bytes -
-                          std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
-          (1 << 20));
+  std::fprintf(stderr,
+               ")\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
+               "(%.0f Mvoxel/s), write %.3f s, render %.3f s\n  peak memory %.1f MiB, of which "
+               "%.1f MiB for this job "
+               "(the rest is libraries)\n",
+               r.volume.width, r.volume.height, static_cast<unsigned long long>(c.slices),
+               sample_type_name(r.volume.type), r.threshold, t.read_s, t.extract_s,
+               t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s, t.render_s,
+               static_cast<double>(r.peak_memory_bytes) / (1 << 20),
+               static_cast<double>(r.peak_memory_bytes -
+                                   std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
+                   (1 << 20));
   if (!r.image.empty())
     std::fprintf(stderr, "  picture %s: %s triangles drawn, %s facing away\n", r.image.c_str(),
                  grouped(r.render.triangles_drawn).c_str(),

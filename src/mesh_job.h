@@ -15,7 +15,7 @@ struct MeshJob {
   std::string input_label;  // for messages and the report: the input as the user named it
   double threshold = 0;     // in sample units
   EngineOptions engine;
-  std::string output;  // PLY path, "-" for standard output; empty: no mesh (a picture only)
+  std::string output;    // PLY path, "-" for standard output; empty: no mesh (a picture only)
   PlyWriterOptions ply;  // its `normals` is set by the job when `normals` is true
   bool normals = false;  // write gradient normals (nx, ny, nz) into the PLY
   PictureOptions picture;

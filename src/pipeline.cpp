@@ -27,9 +27,8 @@ class TimedSinks final : public PolygonSink {
   }
   Status consume_polygon_geometry(const PolygonGeometry* polygons,
                                   std::size_t polygon_count) override {
-    return both([&](PolygonSink& sink) {
-      return sink.consume_polygon_geometry(polygons, polygon_count);
-    });
+    return both(
+        [&](PolygonSink& sink) { return sink.consume_polygon_geometry(polygons, polygon_count); });
   }
   double mesh_seconds = 0;
   double render_seconds = 0;
@@ -116,8 +115,8 @@ PipelineResult run_pipeline(SliceSource& source, double threshold,
   result.times.read_s = timed_source.seconds;
   result.times.write_s = timed_sink.mesh_seconds;
   result.times.render_s = timed_sink.render_seconds + progress_seconds;
-  result.times.extract_s = result.times.total_s - result.times.read_s - result.times.write_s -
-                           result.times.render_s;
+  result.times.extract_s =
+      result.times.total_s - result.times.read_s - result.times.write_s - result.times.render_s;
   result.counters = engine.counters();
   return result;
 }

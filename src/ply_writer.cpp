@@ -165,7 +165,8 @@ void PlyWriter::write_vertices(Sink& sink, const Vertex* vertices, std::size_t v
     } else {
       unsigned char record[24];
       unsigned char* end = record;
-      for (int field = 0; field < fields; ++field) end = store_le32(end, float_bits(written[field]));
+      for (int field = 0; field < fields; ++field)
+        end = store_le32(end, float_bits(written[field]));
       sink.write(record, static_cast<std::size_t>(end - record));
     }
     ++vertex_count_;

@@ -27,10 +27,10 @@ void check_image_extension(const std::string& path) {
     ok = false;
   }
   if (!ok)
-    throw Error(path, extension.empty()
-                          ? "no image type: name the file .png, .pgm, .tif, .bmp or .jpg"
-                          : "cannot write '" + extension +
-                                "' images: use .png, .pgm, .tif, .bmp or .jpg");
+    throw Error(
+        path, extension.empty()
+                  ? "no image type: name the file .png, .pgm, .tif, .bmp or .jpg"
+                  : "cannot write '" + extension + "' images: use .png, .pgm, .tif, .bmp or .jpg");
 }
 
 void write_slice_image(const std::string& path, const SliceView& slice) {

@@ -10,9 +10,9 @@
 namespace mvox {
 
 struct RunReport {
-  std::string input;   // as the user gave it
-  std::string output;  // mesh file, or empty
-  std::string image;   // picture file, or empty
+  std::string input;      // as the user gave it
+  std::string output;     // mesh file, or empty
+  std::string image;      // picture file, or empty
   RenderCounters render;  // what the renderer drew (zero without a picture)
   VolumeInfo volume;
   double threshold = 0;

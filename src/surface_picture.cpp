@@ -25,8 +25,8 @@ void prepare_frames_dir(const std::string& dir) {
 }  // namespace
 
 SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double, 3>& spacing,
-                               const std::array<double, 3>& origin,
-                               const VertexNormals* normals, const PictureOptions& options)
+                               const std::array<double, 3>& origin, const VertexNormals* normals,
+                               const PictureOptions& options)
     : options_(options), depth_(volume.depth) {
   const std::size_t bytes = zbuffer_workspace_bytes(options.width, options.height);
   if (bytes == 0)
@@ -43,15 +43,13 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
   }
   glm::vec3 box_min, box_max;
   volume_bounds(placed, &box_min, &box_max);
-  const Camera camera =
-      fit_camera(box_min, box_max, options.view, options.width, options.height);
+  const Camera camera = fit_camera(box_min, box_max, options.view, options.width, options.height);
   memory_.resize((bytes + sizeof(float) - 1) / sizeof(float));
   const Status status =
       renderer_.init(memory_.data(), memory_.size() * sizeof(float), camera, options.lighting);
   if (status != Status::ok)
     throw Error("renderer", std::string("cannot start: ") + status_message(status));
-  sink_.emplace(renderer_, to_vec3(spacing), to_vec3(origin),
-                options.smooth ? normals : nullptr);
+  sink_.emplace(renderer_, to_vec3(spacing), to_vec3(origin), options.smooth ? normals : nullptr);
 
   if (!options.frames_dir.empty()) prepare_frames_dir(options.frames_dir);
   if (!options.image_path.empty()) image_file_.emplace(options.image_path);

@@ -17,7 +17,6 @@
 
 namespace mvox {
 
-
 struct PictureOptions {
   std::string image_path;  // the final picture (.png, .pgm, .tif...); empty: none
   std::uint32_t width = 512;
@@ -26,7 +25,7 @@ struct PictureOptions {
   Lighting lighting;
   std::string frames_dir;  // a picture after every `every` slices; empty: none
   std::uint32_t every = 10;
-  bool show = false;  // a live window, when there is a display
+  bool show = false;   // a live window, when there is a display
   bool smooth = true;  // gradient normals; false: each polygon shaded flat
 
   bool wanted() const { return !image_path.empty() || !frames_dir.empty() || show; }
@@ -64,7 +63,7 @@ class SurfacePicture {
   SliceView picture() const;
 
   PictureOptions options_;
-  std::uint32_t depth_ = 0;  // slices the source announced: sets the frame names' width
+  std::uint32_t depth_ = 0;    // slices the source announced: sets the frame names' width
   std::vector<float> memory_;  // the renderer's workspace: float-aligned
   ZBufferRenderer renderer_;
   std::optional<RenderSink> sink_;

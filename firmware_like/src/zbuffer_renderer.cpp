@@ -160,14 +160,16 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   const ScreenVertex* v0 = &a;
   const ScreenVertex* v1 = &b;
   const ScreenVertex* v2 = &c;
-  // Twice the signed area; positive for triangles wound counter-clockwise as seen (y down
-  // turns that into clockwise on screen), which faces the viewer.
+  // Twice the signed area in y-down pixel coordinates. A triangle wound counter-clockwise as
+  // seen (y up: it faces the viewer) turns clockwise when y points down, which makes this
+  // negative. Edge functions below want it positive: front faces are drawn as (v0, v2, v1).
   std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
-  if (area <= 0) {
+  if (area >= 0) {  // facing away, or edge-on
     if (area == 0 || lighting_.cull_back_faces) {
       if (write) ++counters_.triangles_culled;
       return false;
     }
+  } else {
     const ScreenVertex* swap = v1;
     v1 = v2;
     v2 = swap;
