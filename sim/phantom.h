@@ -28,9 +28,23 @@ class Phantom {
   // Typically 0 outside the object and about 1 inside. Deterministic: the same voxel always
   // gives the same value, whatever was evaluated before, so slices can be made in any order.
   virtual float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const = 0;
+  // density() as a real scan records it: each boundary of an analytic shape becomes a linear
+  // ramp one voxel wide, centred on the boundary (the partial-volume effect), so gradients
+  // carry the surface's sub-voxel position and direction. Where density() steps from a to b,
+  // this passes (a + b) / 2 exactly on the boundary: thresholding a single step there gives the
+  // voxels density() gives. Phantoms made of voxels have no finer edge and return density().
+  virtual float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
+    return density(x, y, z);
+  }
   // The factory name of the phantom family ("sphere", "shepp-logan", ...); static storage.
   virtual const char* name() const = 0;
 };
+
+// The partial-volume fraction of a voxel whose centre lies `inside` voxels within a boundary
+// (negative: outside): a ramp from 0 to 1 over one voxel, 1/2 on the boundary.
+inline float boundary_ramp(double inside) {
+  return inside >= 0.5 ? 1.0f : inside <= -0.5 ? 0.0f : static_cast<float>(0.5 + inside);
+}
 
 // The centre of the grid in voxel units, ((width - 1) / 2, (height - 1) / 2, (depth - 1) / 2):
 // a shape placed there gives a voxel pattern that is mirror-symmetric on every axis.

@@ -15,6 +15,7 @@ class Sphere final : public Phantom {
   Sphere(Grid grid, Point3 centre, double radius);
   Grid grid() const override { return grid_; }
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
   const char* name() const override { return "sphere"; }
 
  private:
@@ -31,6 +32,7 @@ class Torus final : public Phantom {
   Torus(Grid grid, Point3 centre, double major_radius, double minor_radius);
   Grid grid() const override { return grid_; }
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
   const char* name() const override { return "torus"; }
 
  private:
@@ -50,6 +52,7 @@ class NestedShells final : public Phantom {
   NestedShells(Grid grid, Point3 centre, std::vector<double> radii);
   Grid grid() const override { return grid_; }
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
   const char* name() const override { return "shells"; }
 
  private:

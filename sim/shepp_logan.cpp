@@ -69,4 +69,32 @@ float SheppLogan3D::density(std::uint32_t x, std::uint32_t y, std::uint32_t z) c
   return static_cast<float>(sum);
 }
 
+float SheppLogan3D::partial_volume_density(std::uint32_t x, std::uint32_t y,
+                                           std::uint32_t z) const {
+  const double px = normalised(x, grid_.width);
+  const double py = -normalised(y, grid_.height);
+  const double pz = normalised(z, grid_.depth);
+  // Normalised units per voxel along each axis (the grid spans 2 units).
+  const double voxel_x = 2.0 / grid_.width, voxel_y = 2.0 / grid_.height;
+  const double voxel_z = 2.0 / grid_.depth;
+  double sum = 0;
+  for (const Prepared& e : ellipsoids_) {
+    const double dx = px - e.centre_x;
+    const double dy = py - e.centre_y;
+    const double dz = pz - e.centre_z;
+    const double u = (dx * e.cos_rotation + dy * e.sin_rotation) * e.inv_axis_x;
+    const double v = (dy * e.cos_rotation - dx * e.sin_rotation) * e.inv_axis_y;
+    const double w = dz * e.inv_axis_z;
+    const double q = std::sqrt(u * u + v * v + w * w);  // 1 on the surface
+    if (q >= 2.0) continue;                             // far outside: nothing to add
+    // From the centre to the point in voxels; the surface lies at that length / q.
+    const double length =
+        std::sqrt((dx / voxel_x) * (dx / voxel_x) + (dy / voxel_y) * (dy / voxel_y) +
+                  (dz / voxel_z) * (dz / voxel_z));
+    const double inside = q > 0.0 ? length * (1.0 / q - 1.0) : 1.0;
+    sum += e.intensity * boundary_ramp(inside);
+  }
+  return static_cast<float>(sum);
+}
+
 }  // namespace mvox::sim

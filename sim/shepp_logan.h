@@ -30,6 +30,9 @@ class SheppLogan3D final : public Phantom {
   explicit SheppLogan3D(Grid grid);
   Grid grid() const override { return grid_; }
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  // Each ellipsoid's intensity times its ramp; the distance to an ellipsoid's surface is taken
+  // along the ray from its centre (exact for spheres, close for these gentle ellipsoids).
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
   const char* name() const override { return "shepp-logan"; }
 
  private:

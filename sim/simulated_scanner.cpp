@@ -37,7 +37,9 @@ void fill_slice(const Phantom& phantom, std::uint32_t z, const ScanOptions& opti
   const Grid grid = phantom.grid();
   for (std::uint32_t y = 0; y < grid.height; ++y) {
     for (std::uint32_t x = 0; x < grid.width; ++x) {
-      const T sample = static_cast<T>(sample_value(phantom.density(x, y, z), options));
+      const float density = options.partial_volume ? phantom.partial_volume_density(x, y, z)
+                                                   : phantom.density(x, y, z);
+      const T sample = static_cast<T>(sample_value(density, options));
       std::memcpy(out, &sample, sizeof(T));
       out += sizeof(T);
     }

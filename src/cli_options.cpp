@@ -73,7 +73,7 @@ void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse us
   command.add_option("--image", choice.image,
                      extraction ? "Also render the surface into this picture (.png, .pgm, .tif)"
                                 : "The picture to write (.png, .pgm, .tif); same as -o");
-  command.add_option("--size", choice.size, "Picture size in pixels, WxH or N for NxN")
+  command.add_option("--image-size", choice.size, "Picture size in pixels, WxH or N for NxN")
       ->capture_default_str();
   command
       .add_option("--view", choice.view,
@@ -109,8 +109,8 @@ PictureOptions PictureChoice::options() const {
   if (fields == 1 && size.find('x') == std::string::npos) height = width;
   if (!((fields == 2 || (fields == 1 && height == width)) && width >= 1 && height >= 1 &&
         width <= kMaxImageSide && height <= kMaxImageSide))
-    throw Error("--size", "'" + size + "' is not a picture size: give WxH or N, 1 to " +
-                              std::to_string(kMaxImageSide) + " pixels per side");
+    throw Error("--image-size", "'" + size + "' is not a picture size: give WxH or N, 1 to " +
+                                    std::to_string(kMaxImageSide) + " pixels per side");
   result.width = width;
   result.height = height;
   if (view.size() >= 2) {

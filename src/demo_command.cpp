@@ -20,11 +20,13 @@ struct DemoArguments {
   bool quiet = false;
   EngineChoice engine;
   PlyChoice ply;
+  PictureChoice picture;
 };
 
 void run_demo(const DemoArguments& args) {
   const auto phantom = sim::make_phantom(args.phantom, {args.size, args.size, args.size}, 1);
-  const sim::ScanOptions scan = sim::default_scan_options(SampleType::u8);
+  sim::ScanOptions scan = sim::default_scan_options(SampleType::u8);
+  scan.partial_volume = true;  // edges as a real scan has them: smooth gradient normals
   sim::SimulatedScanner scanner(*phantom, scan);
   const double density_threshold = sim::default_density_threshold(args.phantom);
 
@@ -37,6 +39,7 @@ void run_demo(const DemoArguments& args) {
   job.quiet = args.quiet;
   job.ply = ply_writer_options(args.ply, scanner.info().spacing, scanner.info().origin,
                                "mvox demo: " + args.phantom + " phantom");
+  job.picture = args.picture.options();
   if (!args.quiet)
     std::fprintf(stderr,
                  "mvox demo: %s phantom, %ux%ux%u voxels (8-bit), streamed slice by slice; "
@@ -51,7 +54,9 @@ void run_demo(const DemoArguments& args) {
 void add_demo_command(CLI::App& app) {
   auto args = std::make_shared<DemoArguments>();
   CLI::App* command = app.add_subcommand(
-      "demo", "Extract a built-in 3-D Shepp-Logan head phantom into demo.ply (no input files)");
+      "demo",
+      "Extract a built-in 3-D Shepp-Logan head phantom into demo.ply and render demo.png (no "
+      "input files)");
   command->add_option("--phantom", args->phantom, "Phantom to scan")
       ->check(CLI::IsMember(sim::phantom_names()))
       ->capture_default_str();
@@ -61,6 +66,8 @@ void add_demo_command(CLI::App& app) {
   command->add_option("-o,--output", args->output, "Output PLY file")->capture_default_str();
   add_engine_options(*command, args->engine);
   add_ply_options(*command, args->ply);
+  args->picture.image = "demo.png";
+  add_picture_options(*command, args->picture, PictureUse::extraction);
   command->add_option("--stats", args->stats_path, "Also write a JSON report");
   command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");
   command->callback([args] { run_demo(*args); });

@@ -30,9 +30,9 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
     : options_(options), depth_(volume.depth) {
   const std::size_t bytes = zbuffer_workspace_bytes(options.width, options.height);
   if (bytes == 0)
-    throw Error("--size", "image size " + std::to_string(options.width) + "x" +
-                              std::to_string(options.height) + " is out of range (1.." +
-                              std::to_string(kMaxImageSide) + " per side)");
+    throw Error("--image-size", "image size " + std::to_string(options.width) + "x" +
+                                    std::to_string(options.height) + " is out of range (1.." +
+                                    std::to_string(kMaxImageSide) + " per side)");
   if (options.every == 0) throw Error("--every", "must be at least 1");
   if (!options.image_path.empty()) check_image_extension(options.image_path);
 

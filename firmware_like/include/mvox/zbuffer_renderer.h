@@ -22,11 +22,12 @@ namespace mvox {
 // Phong lighting with one headlight (a directional light from the viewer), per pixel:
 // shade = ambient + diffuse * c + specular * c^shininess, c = |normal . towards viewer|,
 // clamped to 1 and scaled to 0..255. Two-sided, so open meshes are lit from both sides.
+// The defaults add up to 1: a surface facing the viewer is white, never clipped.
 struct Lighting {
   float ambient = 0.10f;
-  float diffuse = 0.75f;
-  float specular = 0.25f;
-  float shininess = 24.0f;
+  float diffuse = 0.70f;
+  float specular = 0.20f;
+  float shininess = 20.0f;
   std::uint8_t background = 0;
   // Skip triangles facing away from the viewer. Exact for closed, consistently wound surfaces
   // (every surface mvox extracts), and it halves the work; turn off for arbitrary meshes.
