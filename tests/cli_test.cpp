@@ -14,6 +14,7 @@
 namespace mvox {
 namespace {
 
+using test::expect_one_line_error;
 using test::run_mvox;
 using test::ScratchDirectory;
 
@@ -37,20 +38,6 @@ std::string read_text(const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-// One line of output, starting "mvox: error: ", mentioning `subject`, with exit code
-// `exit_code` (1: the job failed, 2: a usage error, which adds a line pointing at --help).
-void expect_one_line_error(const test::CommandResult& result, const std::string& subject,
-                           int exit_code = 1) {
-  EXPECT_EQ(result.exit_code, exit_code) << result.output;
-  EXPECT_EQ(result.output.rfind("mvox: error: ", 0), 0u) << result.output;
-  EXPECT_NE(result.output.find(subject), std::string::npos) << result.output;
-  const std::size_t first_newline = result.output.find('\n');
-  if (exit_code == 2)
-    EXPECT_EQ(result.output.compare(first_newline + 1, 4, "Run "), 0) << result.output;
-  else
-    EXPECT_EQ(first_newline, result.output.size() - 1) << "more than one line: " << result.output;
 }
 
 TEST(Cli, PhantomStackExtractedFromFilesIsClosedWithTheRightTopology) {

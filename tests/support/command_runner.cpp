@@ -1,5 +1,6 @@
 #include "command_runner.h"
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -47,6 +48,17 @@ std::string ScratchDirectory::listing() const {
   std::string text;
   for (const auto& name : names) text += name + " ";
   return text;
+}
+
+void expect_one_line_error(const CommandResult& result, const std::string& subject, int exit_code) {
+  EXPECT_EQ(result.exit_code, exit_code) << result.output;
+  EXPECT_EQ(result.output.rfind("mvox: error: ", 0), 0u) << result.output;
+  EXPECT_NE(result.output.find(subject), std::string::npos) << result.output;
+  const std::size_t first_newline = result.output.find('\n');
+  if (exit_code == 2)
+    EXPECT_EQ(result.output.compare(first_newline + 1, 4, "Run "), 0) << result.output;
+  else
+    EXPECT_EQ(first_newline, result.output.size() - 1) << "more than one line: " << result.output;
 }
 
 }  // namespace mvox::test

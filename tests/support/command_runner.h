@@ -13,6 +13,11 @@ struct CommandResult {
 // Runs `mvox ARGUMENTS` through the shell (so quoting works as in a terminal) from `directory`.
 CommandResult run_mvox(const std::string& arguments, const std::filesystem::path& directory);
 
+// One line of output, starting "mvox: error: ", mentioning `subject`, with exit code
+// `exit_code` (1: the job failed, 2: a usage error, which adds a line pointing at --help).
+void expect_one_line_error(const CommandResult& result, const std::string& subject,
+                           int exit_code = 1);
+
 // A fresh empty directory, removed with everything in it when the object goes away.
 class ScratchDirectory {
  public:
