@@ -147,14 +147,17 @@ void ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   const ScreenVertex* v0 = &a;
   const ScreenVertex* v1 = &b;
   const ScreenVertex* v2 = &c;
-  // Twice the signed area; positive for triangles wound counter-clockwise as seen (y down
-  // turns that into clockwise on screen), which faces the viewer.
+  // Twice the signed area in pixel coordinates, y down. A triangle wound counter-clockwise as
+  // seen faces the viewer (mvox winds its surfaces so seen from outside), and its area here is
+  // negative: measuring y downwards flips the sign, not the winding the viewer sees. Back faces
+  // (positive) are culled when asked; the edge functions below want a positive area, so front
+  // faces have two vertices swapped.
   std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
-  if (area <= 0) {
-    if (area == 0 || lighting_.cull_back_faces) {
-      ++counters_.triangles_culled;
-      return;
-    }
+  if (area == 0 || (area > 0 && lighting_.cull_back_faces)) {
+    ++counters_.triangles_culled;
+    return;
+  }
+  if (area < 0) {
     const ScreenVertex* swap = v1;
     v1 = v2;
     v2 = swap;
