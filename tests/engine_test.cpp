@@ -1,4 +1,5 @@
-// The engine's contract: workspace bound, statuses, sample types and thresholds, batching.
+// The engine's contract: workspace bound, statuses, sample types and thresholds, batching, and
+// polygons sent by value (EngineOptions::polygon_geometry).
 #include "mvox/engine.h"
 
 #include <gtest/gtest.h>
@@ -8,11 +9,14 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "counting_sink.h"
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
+#include "phantom_factory.h"
 
 namespace mvox {
 namespace {
@@ -355,6 +359,194 @@ TEST(EngineOutput, VerticesCarryTheirAxisAndTheSideOfTheInnerVoxel) {
   EXPECT_TRUE(test::analyse(mesh).closed_and_consistent());
   // An octahedron with half-diagonals 0.5: volume 4/3 * 0.5^3.
   EXPECT_NEAR(test::analyse(mesh).signed_volume, 1.0 / 6.0, 1e-9);
+}
+
+// --- EngineOptions::polygon_geometry --------------------------------------------------------
+
+// Captures the indexed output like MeshCapture and checks every polygon-geometry batch against
+// the polygon batch that came just before it, its vertices looked up in the vertex stream.
+class GeometryCheckingSink final : public test::MeshCapture {
+ public:
+  Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
+    out_of_order += awaiting_geometry_;  // the geometry of the last polygon batch never came
+    return MeshCapture::consume_vertices(vertices, vertex_count);
+  }
+  Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
+    out_of_order += awaiting_geometry_;
+    awaiting_geometry_ = true;
+    pending_.assign(polygons, polygons + polygon_count);
+    return MeshCapture::consume_polygons(polygons, polygon_count);
+  }
+  Status consume_polygon_geometry(const PolygonGeometry* polygons,
+                                  std::size_t polygon_count) override {
+    ++geometry_batches;
+    out_of_order += !awaiting_geometry_;
+    awaiting_geometry_ = false;
+    geometry_polygons += polygon_count;
+    if (polygon_count != pending_.size()) {
+      ++mismatches;
+      return Status::ok;
+    }
+    for (std::size_t p = 0; p < polygon_count; ++p) {
+      const Polygon& indexed = pending_[p];
+      const PolygonGeometry& by_value = polygons[p];
+      if (by_value.vertex_count != indexed.vertex_count) {
+        ++mismatches;
+        continue;
+      }
+      for (int i = 0; i < indexed.vertex_count; ++i) {
+        const Vertex& expected = mesh.vertices.at(indexed.vertices[i]);
+        const Vertex& actual = by_value.vertices[i];
+        // Exact: the engine computes both from the same cube, nothing is rounded differently.
+        mismatches += actual.x != expected.x || actual.y != expected.y || actual.z != expected.z ||
+                      actual.axis != expected.axis ||
+                      actual.inner_is_lower != expected.inner_is_lower;
+      }
+    }
+    return geometry_batches == refuse_geometry_batch ? Status::sink_refused : Status::ok;
+  }
+  bool awaiting_geometry() const { return awaiting_geometry_; }
+
+  std::size_t geometry_batches = 0;
+  std::size_t geometry_polygons = 0;
+  std::size_t mismatches = 0;
+  std::size_t out_of_order = 0;
+  std::size_t refuse_geometry_batch = 0;  // 1-based; 0: refuse none
+
+ private:
+  std::vector<Polygon> pending_;
+  bool awaiting_geometry_ = false;
+};
+
+// Runs the engine with polygon_geometry over `volume` for every engine kind, surface rule and
+// two batch sizes; each geometry batch must equal its polygon batch by value, and the indexed
+// output must be what it is without the option.
+void expect_geometry_equals_indexed_polygons(const BinaryVolume& volume, const std::string& label) {
+  for (EngineKind kind : {EngineKind::fast, EngineKind::literal})
+    for (SurfaceRule rule : {SurfaceRule::merge_rules, SurfaceRule::paper_table1})
+      for (std::uint32_t batch : {4096u, 3u}) {
+        EngineOptions options;
+        options.kind = kind;
+        options.rule = rule;
+        options.vertices_per_batch = batch == 3 ? 5 : batch;
+        options.polygons_per_batch = batch;
+        const Mesh plain = extract(volume, 1, options);
+        options.polygon_geometry = true;
+        GeometryCheckingSink sink;
+        Workspace workspace(engine_workspace_bytes(volume.width, volume.height, options));
+        Engine engine;
+        ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height, 1,
+                              options, &sink),
+                  Status::ok);
+        for (std::uint32_t z = 0; z < volume.depth; ++z)
+          ASSERT_EQ(engine.push_slice(slice_of(volume, z)), Status::ok);
+        ASSERT_EQ(engine.finish(), Status::ok);
+        const std::string where = label + (kind == EngineKind::fast ? " fast" : " literal") +
+                                  (rule == SurfaceRule::merge_rules ? " merge_rules" : " table1") +
+                                  " batch " + std::to_string(batch);
+        EXPECT_GT(sink.mesh.polygons.size(), 0u) << where;
+        EXPECT_EQ(sink.mismatches, 0u) << where;
+        EXPECT_EQ(sink.out_of_order, 0u) << where;
+        EXPECT_FALSE(sink.awaiting_geometry()) << where;
+        EXPECT_EQ(sink.geometry_batches, sink.polygon_batches) << where;
+        EXPECT_EQ(sink.geometry_polygons, sink.mesh.polygons.size()) << where;
+        EXPECT_TRUE(test::meshes_identical(sink.mesh, plain)) << where;
+      }
+}
+
+BinaryVolume classified(const sim::Phantom& phantom, double density_threshold) {
+  const sim::Grid grid = phantom.grid();
+  BinaryVolume volume(grid.width, grid.height, grid.depth);
+  const std::vector<float> densities = sim::sample_volume(phantom);
+  for (std::size_t i = 0; i < densities.size(); ++i)
+    volume.samples[i] = densities[i] >= density_threshold;
+  return volume;
+}
+
+TEST(EngineGeometry, EveryGeometryBatchIsItsPolygonBatchByValue) {
+  const sim::Grid grids[] = {{19, 17, 15}, {24, 22, 12}, {26, 23, 21}, {21, 18, 16}};
+  const char* names[] = {"sphere", "torus", "shepp-logan", "blobs"};
+  for (int i = 0; i < 4; ++i) {
+    const auto phantom = sim::make_phantom(names[i], grids[i], 3);
+    expect_geometry_equals_indexed_polygons(
+        classified(*phantom, sim::default_density_threshold(names[i])), names[i]);
+  }
+  // Odd-sized noise: every cube configuration, small enough to look at when it fails.
+  auto noise = noise_volume(7, 5, 6, 17);
+  for (auto& sample : noise.samples) sample = sample >= 128;
+  expect_geometry_equals_indexed_polygons(noise, "noise 7x5x6");
+}
+
+TEST(EngineGeometry, WithoutTheOptionNoGeometryIsSent) {
+  const auto phantom = sim::make_phantom("sphere", {12, 11, 10}, 0);
+  GeometryCheckingSink sink;
+  const EngineOptions options;
+  ASSERT_FALSE(options.polygon_geometry);  // off by default
+  Workspace workspace(engine_workspace_bytes(12, 11, options));
+  Engine engine;
+  const BinaryVolume volume = classified(*phantom, 0.5);
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 12, 11, 1, options, &sink),
+            Status::ok);
+  for (std::uint32_t z = 0; z < 10; ++z)
+    ASSERT_EQ(engine.push_slice(slice_of(volume, z)), Status::ok);
+  ASSERT_EQ(engine.finish(), Status::ok);
+  EXPECT_GT(sink.mesh.polygons.size(), 0u);
+  EXPECT_EQ(sink.geometry_batches, 0u);
+}
+
+TEST(EngineGeometry, ASinkRefusingGeometryStopsTheEngine) {
+  const auto phantom = sim::make_phantom("torus", {24, 22, 12}, 0);
+  const BinaryVolume volume = classified(*phantom, 0.5);
+  EngineOptions options;
+  options.polygon_geometry = true;
+  options.polygons_per_batch = 10;
+  GeometryCheckingSink sink;
+  sink.refuse_geometry_batch = 2;
+  Workspace workspace(engine_workspace_bytes(24, 22, options));
+  Engine engine;
+  ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), 24, 22, 1, options, &sink),
+            Status::ok);
+  Status status = Status::ok;
+  for (std::uint32_t z = 0; z < volume.depth && status == Status::ok; ++z)
+    status = engine.push_slice(slice_of(volume, z));
+  EXPECT_EQ(status, Status::sink_refused);
+  EXPECT_EQ(engine.finish(), Status::sink_refused);
+  EXPECT_EQ(sink.geometry_batches, 2u);
+  EXPECT_EQ(sink.polygon_batches, 2u);  // nothing after the refusal
+  EXPECT_EQ(sink.mismatches, 0u);
+}
+
+TEST(EngineWorkspace, PolygonGeometryAddsOneBatchOfPolygonsByValue) {
+  EXPECT_EQ(sizeof(PolygonGeometry), 116u);  // as engine.h states
+  const std::uint32_t sizes[][2] = {{1, 1}, {7, 5}, {64, 3}, {513, 300}};
+  for (const auto& size : sizes)
+    for (EngineKind kind : {EngineKind::fast, EngineKind::literal})
+      for (std::uint32_t batch : {1u, 2u, 3u, 5u, 7u, 4096u}) {
+        EngineOptions off;
+        off.kind = kind;
+        off.polygons_per_batch = batch;
+        EngineOptions on = off;
+        on.polygon_geometry = true;
+        // Every buffer starts on kWorkspaceAlignment (8): odd batches of 116 bytes round up by 4.
+        const std::size_t expected_extra = (batch * sizeof(PolygonGeometry) + 7) / 8 * 8;
+        EXPECT_EQ(engine_workspace_bytes(size[0], size[1], on) -
+                      engine_workspace_bytes(size[0], size[1], off),
+                  expected_extra)
+            << size[0] << "x" << size[1] << " batch " << batch;
+      }
+  // And init() asks for all of it.
+  EngineOptions on;
+  on.polygon_geometry = true;
+  on.vertices_per_batch = 4;
+  on.polygons_per_batch = 3;
+  const std::size_t bound = engine_workspace_bytes(7, 5, on);
+  Workspace workspace(bound);
+  CountingSink sink;
+  Engine engine;
+  for (std::size_t bytes = 0; bytes < bound; ++bytes)
+    ASSERT_EQ(engine.init(workspace.data(), bytes, 7, 5, 1, on, &sink), Status::workspace_too_small)
+        << bytes << " of " << bound;
+  EXPECT_EQ(engine.init(workspace.data(), bound, 7, 5, 1, on, &sink), Status::ok);
 }
 
 }  // namespace

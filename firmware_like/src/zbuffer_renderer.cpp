@@ -129,9 +129,18 @@ bool ZBufferRenderer::project_polygon(const glm::vec3* positions, int vertex_cou
   }
   projected_count_ = vertex_count;
   // Would any pixel be written? The same traversal as drawing, without writing or shading.
+  // Every triangle is tried (not just up to the first visible one) so that culled triangles
+  // are counted here, once.
+  const std::uint64_t culled_before = counters_.triangles_culled;
+  bool visible = false;
   for (int i = 1; i + 1 < vertex_count; ++i)
-    if (draw_triangle(projected_[0], projected_[i], projected_[i + 1], false)) return true;
-  return false;
+    visible = draw_triangle(projected_[0], projected_[i], projected_[i + 1], false) || visible;
+  const std::uint64_t triangles = static_cast<std::uint64_t>(vertex_count - 2);
+  if (!visible) {
+    counters_.triangles_hidden += triangles - (counters_.triangles_culled - culled_before);
+    projected_count_ = 0;
+  }
+  return visible;
 }
 
 void ZBufferRenderer::draw_projected(const glm::vec3* normals) {
@@ -166,7 +175,7 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
   if (area >= 0) {  // facing away, or edge-on
     if (area == 0 || lighting_.cull_back_faces) {
-      if (write) ++counters_.triangles_culled;
+      if (!write) ++counters_.triangles_culled;  // counted once, when projected
       return false;
     }
   } else {

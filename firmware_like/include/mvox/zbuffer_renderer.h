@@ -34,12 +34,15 @@ struct Lighting {
   bool cull_back_faces = true;
 };
 
-// What has been drawn since the last clear().
+// What has been drawn since the last clear(). Every triangle of a projected polygon is counted
+// once: triangles_culled + triangles_hidden + triangles_drawn.
 struct RenderCounters {
-  std::uint64_t polygons = 0;          // draw_polygon calls
-  std::uint64_t polygons_clipped = 0;  // not drawn: a vertex behind the camera or far outside
-  std::uint64_t triangles_culled = 0;  // facing away, or of zero area on screen
-  std::uint64_t triangles_drawn = 0;
+  std::uint64_t polygons = 0;           // polygons given to draw or project
+  std::uint64_t polygons_clipped = 0;   // not drawn: a vertex behind the camera or far outside
+  std::uint64_t triangles_culled = 0;   // facing away (when culling), or of zero area on screen
+  std::uint64_t triangles_hidden = 0;   // of polygons that would write no pixel: between pixel
+                                        // centres, or behind what is already there
+  std::uint64_t triangles_drawn = 0;    // rasterised and written
   std::uint64_t fragments_covered = 0;  // pixel centres inside a drawn triangle
   std::uint64_t fragments_written = 0;  // of those, nearer than what was there
 };
