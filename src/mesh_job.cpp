@@ -53,8 +53,11 @@ void print_summary(const RunReport& r) {
                                    std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
                    (1 << 20));
   if (!r.image.empty())
-    std::fprintf(stderr, "  picture %s: %s triangles drawn, %s facing away\n", r.image.c_str(),
-                 grouped(r.render.triangles_drawn).c_str(),
+    std::fprintf(stderr,
+                 "  picture %s: %s triangles drawn, %s hidden or between pixels, %s facing "
+                 "away\n",
+                 r.image.c_str(), grouped(r.render.triangles_drawn).c_str(),
+                 grouped(r.render.triangles_hidden).c_str(),
                  grouped(r.render.triangles_culled).c_str());
 }
 

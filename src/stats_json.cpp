@@ -69,6 +69,7 @@ std::string run_report_json(const RunReport& r) {
       << number(t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0) << ",\n"
       << "  \"render\": {\"triangles_drawn\": " << r.render.triangles_drawn
       << ", \"triangles_culled\": " << r.render.triangles_culled
+      << ", \"triangles_hidden\": " << r.render.triangles_hidden
       << ", \"fragments_written\": " << r.render.fragments_written << "},\n"
       << "  \"engine_workspace_bytes\": " << r.result.workspace_bytes << ",\n"
       << "  \"start_memory_bytes\": " << r.start_memory_bytes << ",\n"

@@ -21,11 +21,17 @@ constexpr std::int64_t kHalfPixel = kSubpixel / 2;
 // Vertices may lie this far outside the image (in pixels) and still be drawn; beyond it the
 // polygon is dropped. Keeps fixed-point edge products far inside 64 bits.
 constexpr float kGuardBandPixels = 32768.0f;
+constexpr float kGuardBandSubpixels = kGuardBandPixels * kSubpixel;
 
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
-  return a >= 0 ? a / b : -((-a + b - 1) / b);
+// Pixel index of the first and last pixel centre at or after / at or before a subpixel
+// coordinate. Right shifts of negative values floor on every compiler mvox supports (GCC and
+// Clang define them as arithmetic shifts).
+inline std::int64_t first_centre_at_or_after(std::int64_t subpixel) {
+  return (subpixel - kHalfPixel + kSubpixel - 1) >> kSubpixelBits;
 }
-std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return -floor_div(-a, b); }
+inline std::int64_t last_centre_at_or_before(std::int64_t subpixel) {
+  return (subpixel - kHalfPixel) >> kSubpixelBits;
+}
 
 bool lighting_valid(const Lighting& l) {
   auto ok = [](float v) { return std::isfinite(v) && v >= 0.0f; };
@@ -75,6 +81,22 @@ Status ZBufferRenderer::init(void* workspace, std::size_t workspace_bytes, const
   lighting_ = lighting;
   depth_ = static_cast<float*>(workspace);
   shade_ = reinterpret_cast<std::uint8_t*>(depth_ + std::size_t{width_} * height_);
+  // An orthographic camera's clip w is 1 everywhere: then the whole projection to subpixels
+  // and depth is one affine map per coordinate.
+  const glm::mat4& m = camera.world_to_clip;  // m[column][row]
+  affine_ = m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f;
+  const float sub_half_width = 0.5f * static_cast<float>(width_) * kSubpixel;
+  const float sub_half_height = 0.5f * static_cast<float>(height_) * kSubpixel;
+  for (int column = 0; column < 4; ++column) {
+    screen_x_[column] = sub_half_width * m[column][0];
+    screen_y_[column] = -sub_half_height * m[column][1];
+    screen_depth_[column] = 0.5f * m[column][2];
+  }
+  screen_x_.w += sub_half_width;
+  screen_y_.w += sub_half_height;
+  screen_depth_.w += 0.5f;
+  subpixel_centre_x_ = sub_half_width;
+  subpixel_centre_y_ = sub_half_height;
   // The whole lighting model folded into a table of the cosine: no pow() per pixel.
   for (int i = 0; i < kShadeLevels; ++i) {
     const float c = static_cast<float>(i) / (kShadeLevels - 1);
@@ -103,6 +125,27 @@ bool ZBufferRenderer::project_polygon(const glm::vec3* positions, int vertex_cou
   projected_count_ = 0;
   if (!depth_ || vertex_count < 3 || vertex_count > kMaxVerticesDrawn) return false;
   ++counters_.polygons;
+  if (affine_) {
+    // Orthographic: screen coordinates are affine in the position, no division.
+    for (int i = 0; i < vertex_count; ++i) {
+      const glm::vec3& p = positions[i];
+      const float sx = screen_x_.x * p.x + screen_x_.y * p.y + screen_x_.z * p.z + screen_x_.w;
+      const float sy = screen_y_.x * p.x + screen_y_.y * p.y + screen_y_.z * p.z + screen_y_.w;
+      if (!(std::fabs(sx - subpixel_centre_x_) < kGuardBandSubpixels &&
+            std::fabs(sy - subpixel_centre_y_) < kGuardBandSubpixels)) {
+        ++counters_.polygons_clipped;
+        return false;
+      }
+      ScreenVertex& v = projected_[i];
+      v.x = std::lrint(sx);  // nearest subpixel; the guard band keeps it in range
+      v.y = std::lrint(sy);
+      v.depth = screen_depth_.x * p.x + screen_depth_.y * p.y + screen_depth_.z * p.z +
+                screen_depth_.w;
+      v.inverse_w = 1.0f;
+      projected_positions_[i] = p;
+    }
+    return test_projected(vertex_count);
+  }
   const glm::mat4& to_clip = camera_.world_to_clip;
   const float half_width = 0.5f * static_cast<float>(width_);
   const float half_height = 0.5f * static_cast<float>(height_);
@@ -122,11 +165,15 @@ bool ZBufferRenderer::project_polygon(const glm::vec3* positions, int vertex_cou
       return false;
     }
     // Round to the subpixel grid (the guard band keeps this far inside int64).
-    v.x = static_cast<std::int64_t>(std::floor(sx * kSubpixel + 0.5f));
-    v.y = static_cast<std::int64_t>(std::floor(sy * kSubpixel + 0.5f));
+    v.x = std::lrint(sx * kSubpixel);
+    v.y = std::lrint(sy * kSubpixel);
     v.depth = 0.5f * (clip.z * v.inverse_w + 1.0f);
     projected_positions_[i] = positions[i];
   }
+  return test_projected(vertex_count);
+}
+
+bool ZBufferRenderer::test_projected(int vertex_count) {
   projected_count_ = vertex_count;
   // Would any pixel be written? The same traversal as drawing, without writing or shading.
   // Every triangle is tried (not just up to the first visible one) so that culled triangles
@@ -134,7 +181,7 @@ bool ZBufferRenderer::project_polygon(const glm::vec3* positions, int vertex_cou
   const std::uint64_t culled_before = counters_.triangles_culled;
   bool visible = false;
   for (int i = 1; i + 1 < vertex_count; ++i)
-    visible = draw_triangle(projected_[0], projected_[i], projected_[i + 1], false) || visible;
+    visible = draw_triangle<false>(projected_[0], projected_[i], projected_[i + 1]) || visible;
   const std::uint64_t triangles = static_cast<std::uint64_t>(vertex_count - 2);
   if (!visible) {
     counters_.triangles_hidden += triangles - (counters_.triangles_culled - culled_before);
@@ -151,7 +198,7 @@ void ZBufferRenderer::draw_projected(const glm::vec3* normals) {
     for (int i = 0; i < count; ++i)
       projected_[i].normal = camera_.world_to_view * normals[i] * projected_[i].inverse_w;
     for (int i = 1; i + 1 < count; ++i)
-      draw_triangle(projected_[0], projected_[i], projected_[i + 1], true);
+      draw_triangle<true>(projected_[0], projected_[i], projected_[i + 1]);
     return;
   }
   const glm::vec3* p = projected_positions_;
@@ -160,12 +207,13 @@ void ZBufferRenderer::draw_projected(const glm::vec3* normals) {
     const glm::vec3 n = camera_.world_to_view * glm::cross(p[i] - p[0], p[i + 1] - p[0]);
     ScreenVertex a = projected_[0], b = projected_[i], c = projected_[i + 1];
     a.normal = b.normal = c.normal = n;
-    draw_triangle(a, b, c, true);
+    draw_triangle<true>(a, b, c);
   }
 }
 
+template <bool write>
 bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b,
-                                    const ScreenVertex& c, bool write) {
+                                    const ScreenVertex& c) {
   const ScreenVertex* v0 = &a;
   const ScreenVertex* v1 = &b;
   const ScreenVertex* v2 = &c;
@@ -175,7 +223,7 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
   if (area >= 0) {  // facing away, or edge-on
     if (area == 0 || lighting_.cull_back_faces) {
-      if (!write) ++counters_.triangles_culled;  // counted once, when projected
+      if constexpr (!write) ++counters_.triangles_culled;  // counted once, when projected
       return false;
     }
   } else {
@@ -190,13 +238,12 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   const std::int64_t max_x = std::max({v0->x, v1->x, v2->x});
   const std::int64_t min_y = std::min({v0->y, v1->y, v2->y});
   const std::int64_t max_y = std::max({v0->y, v1->y, v2->y});
-  const std::int64_t first_x = std::max<std::int64_t>(0, ceil_div(min_x - kHalfPixel, kSubpixel));
-  const std::int64_t last_x =
-      std::min<std::int64_t>(width_ - 1, floor_div(max_x - kHalfPixel, kSubpixel));
-  const std::int64_t first_y = std::max<std::int64_t>(0, ceil_div(min_y - kHalfPixel, kSubpixel));
+  const std::int64_t first_x = std::max<std::int64_t>(0, first_centre_at_or_after(min_x));
+  const std::int64_t last_x = std::min<std::int64_t>(width_ - 1, last_centre_at_or_before(max_x));
+  const std::int64_t first_y = std::max<std::int64_t>(0, first_centre_at_or_after(min_y));
   const std::int64_t last_y =
-      std::min<std::int64_t>(height_ - 1, floor_div(max_y - kHalfPixel, kSubpixel));
-  if (write) ++counters_.triangles_drawn;
+      std::min<std::int64_t>(height_ - 1, last_centre_at_or_before(max_y));
+  if constexpr (write) ++counters_.triangles_drawn;
   if (first_x > last_x || first_y > last_y) return false;
 
   const std::int64_t start_x = first_x * kSubpixel + kHalfPixel;
@@ -208,7 +255,9 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
 
   const float inverse_area = 1.0f / static_cast<float>(area);
   const float depth_1 = v1->depth - v0->depth, depth_2 = v2->depth - v0->depth;
-  const glm::vec3 normal_1 = v1->normal - v0->normal, normal_2 = v2->normal - v0->normal;
+  // Normals are only needed when writing; the test pass skips them (if constexpr below).
+  const glm::vec3 normal_1 = write ? v1->normal - v0->normal : glm::vec3(0.0f);
+  const glm::vec3 normal_2 = write ? v2->normal - v0->normal : glm::vec3(0.0f);
   const float cosine_scale = static_cast<float>(kShadeLevels - 1);
 
   bool any_written = false;
@@ -223,7 +272,7 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
         const float l2 = static_cast<float>(w2 - e2.bias) * inverse_area;
         const float depth = v0->depth + l1 * depth_1 + l2 * depth_2;
         const bool nearer = depth < depth_row[px] && depth >= 0.0f && depth <= 1.0f;
-        if (!write) {
+        if constexpr (!write) {
           if (nearer) return true;
         } else {
           ++counters_.fragments_covered;

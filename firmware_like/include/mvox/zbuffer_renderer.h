@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "mvox/camera.h"
 #include "mvox/status.h"
@@ -100,8 +101,10 @@ class ZBufferRenderer {
   static constexpr int kMaxVerticesDrawn = 16;
   // Draws (or with `write` false, only tests) one triangle; returns whether any pixel passed
   // the depth test.
-  bool draw_triangle(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c,
-                     bool write);
+  template <bool write>
+  bool draw_triangle(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c);
+  // project_polygon()'s second half: would the projected polygon write a pixel?
+  bool test_projected(int vertex_count);
 
   static constexpr int kShadeLevels = 1024;  // lighting lookup: c quantised to 1/1023
   float* depth_ = nullptr;
@@ -112,6 +115,10 @@ class ZBufferRenderer {
   Lighting lighting_;
   std::uint8_t shade_of_cosine_[kShadeLevels] = {};
   RenderCounters counters_;
+  // Orthographic cameras project by three affine maps: to subpixels and to depth 0..1.
+  bool affine_ = false;
+  glm::vec4 screen_x_{0.0f}, screen_y_{0.0f}, screen_depth_{0.0f};
+  float subpixel_centre_x_ = 0, subpixel_centre_y_ = 0;
   // The polygon between project_polygon() and draw_projected().
   ScreenVertex projected_[kMaxVerticesDrawn];
   glm::vec3 projected_positions_[kMaxVerticesDrawn];
