@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
   cmake g++ make pkg-config
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev  # slice images in and out
+  # Only for --show's window, loaded at run time: it brings Qt, which mvox itself never links.
+  libopencv-highgui-dev
   libglm-dev                                                        # vector math (header-only)
   libcli11-dev                                                      # command-line parsing
   googletest libgtest-dev                                           # tests

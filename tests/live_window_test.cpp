@@ -1,0 +1,257 @@
+// LiveWindow: the reasons it gives when there is no window to be had, and a real window on a
+// private X server (Xvfb) when one can be started. gtest_discover_tests runs every test in its
+// own process, so changing DISPLAY here touches no other test.
+#include "live_window.h"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace mvox {
+namespace {
+
+// The first executable called `name` on PATH, or "" if there is none.
+std::string find_on_path(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path != nullptr ? path : "";
+  std::size_t start = 0;
+  while (start <= dirs.size()) {
+    std::size_t end = dirs.find(':', start);
+    if (end == std::string::npos) end = dirs.size();
+    const std::string candidate = dirs.substr(start, end - start) + "/" + name;
+    if (end > start && access(candidate.c_str(), X_OK) == 0) return candidate;
+    start = end + 1;
+  }
+  return "";
+}
+
+// An X server of our own, on a display number it picks itself (-displayfd), so that tests run
+// in parallel never race for one. Killed, and waited for, when the object goes away; and by
+// the kernel if this process dies first (PR_SET_PDEATHSIG), so that none is ever left behind.
+class Xvfb {
+ public:
+  Xvfb() {
+    const std::string program = find_on_path("Xvfb");
+    if (program.empty()) {
+      why_not_ = "Xvfb is not installed (apt-get install xvfb)";
+      return;
+    }
+    int fds[2];
+    if (pipe2(fds, O_CLOEXEC) != 0) {
+      why_not_ = "pipe failed";
+      return;
+    }
+    // Everything the child needs is made before fork: after it, in a process that may have
+    // threads (Qt's), only async-signal-safe calls are allowed.
+    const std::string fd_text = std::to_string(fds[1]);
+    std::vector<std::string> args = {program, "-displayfd", fd_text,     "-screen",
+                                     "0",     "320x240x24", "-nolisten", "tcp"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const pid_t parent = getpid();
+    pid_ = fork();
+    if (pid_ == 0) {
+      prctl(PR_SET_PDEATHSIG, SIGTERM);     // TERM: Xvfb then removes its socket and lock
+      if (getppid() != parent) _exit(127);  // the parent died before prctl took effect
+      fcntl(fds[1], F_SETFD, 0);            // the write end is Xvfb's, across exec
+      // Xvfb warns about /tmp/.X11-unix ownership and keyboard maps on every start.
+      const int null_fd = open("/dev/null", O_WRONLY);
+      dup2(null_fd, STDOUT_FILENO);
+      dup2(null_fd, STDERR_FILENO);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    close(fds[1]);
+    if (pid_ < 0) {
+      close(fds[0]);
+      why_not_ = "fork failed";
+      return;
+    }
+    // Xvfb writes the display number and a newline once it accepts clients.
+    std::string number;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (number.empty() || number.back() != '\n') {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      pollfd p{fds[0], POLLIN, 0};
+      if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
+      char c;
+      if (read(fds[0], &c, 1) != 1) break;
+      number += c;
+    }
+    close(fds[0]);
+    if (number.size() < 2 || number.back() != '\n') {
+      why_not_ = "Xvfb did not report a display within 2 s";
+      return;
+    }
+    number.pop_back();
+    display_ = ":" + number;
+  }
+
+  ~Xvfb() {
+    if (pid_ <= 0) return;
+    kill(pid_, SIGTERM);
+    for (int i = 0; i < 100; ++i) {  // 1 s for a clean exit, which removes its socket and lock
+      if (waitpid(pid_, nullptr, WNOHANG) == pid_) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+
+  Xvfb(const Xvfb&) = delete;
+  Xvfb& operator=(const Xvfb&) = delete;
+
+  // ":N" once the server is up, else empty and why_not() says why.
+  const std::string& display() const { return display_; }
+  const std::string& why_not() const { return why_not_; }
+
+ private:
+  pid_t pid_ = -1;
+  std::string display_;
+  std::string why_not_;
+};
+
+// One server for the whole test process, stopped when the process exits. Qt connects to the
+// display once and keeps that connection until the process ends, ending the process itself
+// when the server goes away, so the server must outlive every test that opens a window.
+const Xvfb& shared_xvfb() {
+  static const Xvfb server;
+  return server;
+}
+
+bool module_built() {
+#ifdef MVOX_HAVE_LIVE_WINDOW
+  return true;
+#else
+  return false;
+#endif
+}
+
+// The map state xwininfo reports for the window titled `title` on `display` ("IsViewable",
+// "IsUnMapped"), or "" when there is no such window.
+std::string map_state(const std::string& display, const std::string& title) {
+  const std::string command = "xwininfo -display " + display + " -name '" + title + "' 2>/dev/null";
+  std::string text;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[4096];
+    std::size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
+    pclose(pipe);
+  }
+  const std::string key = "Map State: ";
+  const std::size_t at = text.find(key);
+  if (at == std::string::npos) return "";
+  const std::size_t start = at + key.size();
+  return text.substr(start, text.find('\n', start) - start);
+}
+
+bool have_xwininfo() { return std::system("command -v xwininfo >/dev/null 2>&1") == 0; }
+
+// An image whose value rises to the right and, less steeply, downwards (0 to 220 at 64x48):
+// asymmetric, so a swapped width and height would show a different picture.
+std::vector<std::uint8_t> gradient(std::uint32_t width, std::uint32_t height) {
+  std::vector<std::uint8_t> pixels(width * height);
+  for (std::uint32_t y = 0; y < height; ++y)
+    for (std::uint32_t x = 0; x < width; ++x) pixels[y * width + x] = x * 2 + y * 2;
+  return pixels;
+}
+
+TEST(LiveWindow, WithoutAnyDisplayOpenReturnsNullAndSaysSo) {
+  unsetenv("DISPLAY");
+  unsetenv("WAYLAND_DISPLAY");
+  std::string why = "untouched";
+  EXPECT_EQ(LiveWindow::open("mvox test", &why), nullptr);
+  EXPECT_EQ(why, "no display: neither DISPLAY nor WAYLAND_DISPLAY is set");
+  EXPECT_EQ(LiveWindow::open("mvox test", nullptr), nullptr);  // a null why_not is allowed
+}
+
+#ifndef MVOX_HAVE_LIVE_WINDOW
+TEST(LiveWindow, WithADisplayButNoModuleSaysMvoxWasBuiltWithoutHighgui) {
+  setenv("DISPLAY", ":0", 1);
+  std::string why;
+  EXPECT_EQ(LiveWindow::open("mvox test", &why), nullptr);
+  EXPECT_EQ(why, "mvox was built without OpenCV highgui");
+}
+#endif
+
+// A DISPLAY left over from a closed session: Qt would end the process trying to reach it, so
+// the module must refuse first, and the test process must still be alive to check that.
+TEST(LiveWindow, DisplayWithNoServerIsRefusedNotFatal) {
+  if (!module_built()) GTEST_SKIP() << "mvox was built without OpenCV highgui";
+  setenv("DISPLAY", ":59123", 1);  // no server listens on display 59123
+  unsetenv("WAYLAND_DISPLAY");
+  std::string why;
+  EXPECT_EQ(LiveWindow::open("mvox test", &why), nullptr);
+  EXPECT_EQ(why, "cannot connect to the X display \":59123\"");
+  setenv("DISPLAY", "localhost:59123.0", 1);  // the TCP form ssh -X sets
+  EXPECT_EQ(LiveWindow::open("mvox test", &why), nullptr);
+  EXPECT_EQ(why, "cannot connect to the X display \"localhost:59123.0\"");
+
+  // Wayland alone: Qt would try X anyway, and end the process, unless told to use Wayland.
+  unsetenv("DISPLAY");
+  unsetenv("QT_QPA_PLATFORM");
+  setenv("WAYLAND_DISPLAY", "wayland-59123", 1);
+  EXPECT_EQ(LiveWindow::open("mvox test", &why), nullptr);
+  EXPECT_EQ(why.rfind("OpenCV's window needs an X display and DISPLAY is not set", 0), 0u) << why;
+}
+
+TEST(LiveWindow, ShowsAGradientOnXvfb) {
+  if (!module_built()) GTEST_SKIP() << "mvox was built without OpenCV highgui";
+  const Xvfb& server = shared_xvfb();
+  if (server.display().empty()) GTEST_SKIP() << server.why_not();
+  setenv("DISPLAY", server.display().c_str(), 1);
+  unsetenv("WAYLAND_DISPLAY");
+
+  std::string why;
+  {
+    std::unique_ptr<LiveWindow> window = LiveWindow::open("mvox live window test", &why);
+    ASSERT_NE(window, nullptr) << why;
+    // The build copies the module beside this test, as it puts it beside mvox.
+    const std::string path = LiveWindow::module_path();
+    EXPECT_NE(path.find("/tests/libmvox_live_window.so"), std::string::npos) << path;
+
+    std::string second_why;
+    EXPECT_EQ(LiveWindow::open("second", &second_why), nullptr);
+    EXPECT_EQ(second_why, "a live window is already open");
+
+    const std::vector<std::uint8_t> image = gradient(64, 48);
+    window->show(image.data(), 64, 48);
+    EXPECT_EQ(window->error(), "");
+    EXPECT_EQ(window->frames_shown(), 1u);
+    // Within kMinUpdateInterval of the first: skipped, until forced.
+    for (int i = 0; i < 5; ++i) window->show(image.data(), 64, 48);
+    EXPECT_EQ(window->frames_shown(), 1u);
+    window->show(image.data(), 64, 48, /*force=*/true);
+    EXPECT_EQ(window->frames_shown(), 2u);
+    EXPECT_EQ(window->error(), "");
+
+    if (have_xwininfo())
+      EXPECT_EQ(map_state(server.display(), "mvox live window test"), "IsViewable");
+  }
+  if (have_xwininfo())  // Qt keeps a closed window's X window, unmapped
+    EXPECT_NE(map_state(server.display(), "mvox live window test"), "IsViewable");
+  // Closed, so a new window can be opened in the same process.
+  std::unique_ptr<LiveWindow> again = LiveWindow::open("mvox live window again", &why);
+  ASSERT_NE(again, nullptr) << why;
+  const std::vector<std::uint8_t> image = gradient(64, 48);
+  again->show(image.data(), 64, 48, /*force=*/true);
+  EXPECT_EQ(again->error(), "");
+  if (have_xwininfo())
+    EXPECT_EQ(map_state(server.display(), "mvox live window again"), "IsViewable");
+}
+
+}  // namespace
+}  // namespace mvox
