@@ -27,30 +27,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// A whole volume decoded into memory, so the in-memory runs time the engine alone.
-struct LoadedVolume {
-  VolumeInfo info;
-  std::vector<unsigned char> bytes;  // slices one after another, rows packed
-  std::size_t slice_bytes = 0;
-};
-
-LoadedVolume load(const PaperDataset& dataset) {
-  auto source = open_dataset(dataset);
-  LoadedVolume volume;
-  volume.info = source->info();
-  const std::size_t row_bytes = volume.info.width * sample_bytes(volume.info.type);
-  volume.slice_bytes = row_bytes * volume.info.height;
-  SliceView slice;
-  while (source->next_slice(&slice))
-    for (std::uint32_t y = 0; y < slice.height; ++y) {
-      const auto* row =
-          static_cast<const unsigned char*>(slice.samples) + y * slice.row_stride_bytes;
-      volume.bytes.insert(volume.bytes.end(), row, row + row_bytes);
-    }
-  volume.info.depth = static_cast<std::uint32_t>(volume.bytes.size() / volume.slice_bytes);
-  return volume;
-}
-
 double extract_in_memory(const LoadedVolume& volume, double threshold, EngineKind kind,
                          EngineCounters* counters) {
   EngineOptions options;
@@ -63,11 +39,8 @@ double extract_in_memory(const LoadedVolume& volume, double threshold, EngineKin
   if (engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, options,
                   &sink) != Status::ok)
     return -1;
-  for (std::uint32_t z = 0; z < info.depth; ++z) {
-    const SliceView slice{volume.bytes.data() + z * volume.slice_bytes, info.width, info.height,
-                          info.width * sample_bytes(info.type), info.type};
-    if (engine.push_slice(slice) != Status::ok) return -1;
-  }
+  for (std::uint32_t z = 0; z < info.depth; ++z)
+    if (engine.push_slice(volume.slice(z)) != Status::ok) return -1;
   if (engine.finish() != Status::ok) return -1;
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   *counters = engine.counters();
@@ -85,12 +58,6 @@ double extract_end_to_end(const PaperDataset& dataset, EngineKind kind, const st
   if (result.status != Status::ok) return -1;
   writer.finish();
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
 }
 
 }  // namespace
@@ -128,7 +95,7 @@ int main(int argc, char** argv) {
         "| fast/literal | fast, end to end | literal, end to end |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n");
     for (const PaperDataset& dataset : datasets) {
-      const LoadedVolume volume = load(dataset);
+      const LoadedVolume volume = load_dataset(dataset);
       const double mvoxels =
           double(volume.info.width) * volume.info.height * volume.info.depth / 1e6;
       std::vector<double> fast_memory, literal_memory, fast_files, literal_files;

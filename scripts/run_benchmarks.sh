@@ -6,7 +6,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 runs=${RUNS:-5}
 "$root/scripts/install_deps.sh" >/dev/null
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_bench_extract >/dev/null
+cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_bench_extract mvox_bench_render >/dev/null
 
 out="$root/docs/benchmarks.md"
 tmp=$(mktemp)
@@ -31,6 +31,21 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
   echo "- Both engines give identical output (the program checks the counts)."
   echo
   "$root/build/bench/mvox_bench_extract" --runs "$runs"
+  echo
+  echo "## Rendering's share of the time"
+  echo
+  echo "Goal: drawing the picture costs at most half of what extracting the surface does. Slices are"
+  echo "decoded into memory first; runs of (a) and (b) are interleaved."
+  echo
+  echo "- *(a) extraction*: the fast engine into a sink that only counts."
+  echo "- *(b) extraction + rendering*: the same engine sending polygons by value, fed one slice behind"
+  echo "  a four-slice window (\`stream_volume\` with a \`SliceWindow\`), into a \`RenderSink\` with"
+  echo "  gradient normals drawing a 512x512 z-buffer picture, orthographic, default view, fitted to the"
+  echo "  volume (CThead with its 1:1:2 voxels)."
+  echo "- *rendering* = (b) - (a): polygons by value, window copies, normals, transform and drawing;"
+  echo "  *inside the RenderSink* is the part spent in the sink's calls (normals and drawing)."
+  echo
+  (cd "$root" && build/bench/mvox_bench_render --runs "$runs")
   echo
   echo "## Memory does not grow with the number of slices"
   echo

@@ -1,0 +1,340 @@
+// What rendering adds to extraction on the paper's three datasets, against the goal that drawing
+// the picture costs at most half of what extracting the surface does. Every slice is decoded
+// into memory first; then, interleaved, N runs of each of
+//   (a) extraction alone: the fast engine (merge rules) into a sink that only counts;
+//   (b) extraction and rendering: the same engine sending polygons by value, fed one slice
+//       behind a SliceWindow (stream_volume), into a RenderSink with gradient normals drawing a
+//       512x512 z-buffer picture from the default orthographic view fitted to the volume.
+// Rendering time is (b) - (a): polygons by value, the window's copies, normals and drawing.
+// The time spent inside the RenderSink (normals and drawing) is measured too, by a sink that
+// wraps it and reads the clock around each batch. Medians of the N runs are reported.
+//
+//   mvox_bench_render [--datasets DIR] [--runs N] [--dataset NAME] [--save-images DIR]
+//
+// Prints the command line, a Markdown table per dataset and a summary on standard output; with
+// --save-images, writes DIR/NAME.png, the picture of the last run (b), to check it by eye.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "counting_sink.h"
+#include "mesh_job.h"
+#include "mvox/camera.h"
+#include "mvox/engine.h"
+#include "mvox/render_sink.h"
+#include "mvox/slice_window.h"
+#include "mvox/vertex_normals.h"
+#include "mvox/zbuffer_renderer.h"
+#include "paper_datasets.h"
+#include "slice_image_writer.h"
+#include "stream.h"
+#include "workspace_buffer.h"
+
+namespace mvox::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr std::uint32_t kImageSide = 512;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The decoded volume as a slice source, so that both runs go through stream_volume.
+class MemorySource final : public SliceSource {
+ public:
+  explicit MemorySource(const LoadedVolume& volume) : volume_(volume) {}
+  const VolumeInfo& info() const override { return volume_.info; }
+  bool next_slice(SliceView* slice) override {
+    if (next_ >= volume_.info.depth) return false;
+    *slice = volume_.slice(next_++);
+    return true;
+  }
+
+ private:
+  const LoadedVolume& volume_;
+  std::uint32_t next_ = 0;
+};
+
+// Forwards every batch to `inner` and adds up the time spent there. The engine sends a few
+// batches per slice, so the clock reads cost nothing measurable.
+class TimedSink final : public PolygonSink {
+ public:
+  explicit TimedSink(PolygonSink& inner) : inner_(inner) {}
+  Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
+    return timed([&] { return inner_.consume_vertices(vertices, vertex_count); });
+  }
+  Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
+    return timed([&] { return inner_.consume_polygons(polygons, polygon_count); });
+  }
+  Status consume_polygon_geometry(const PolygonGeometry* polygons,
+                                  std::size_t polygon_count) override {
+    return timed([&] { return inner_.consume_polygon_geometry(polygons, polygon_count); });
+  }
+
+  double seconds = 0;
+
+ private:
+  template <typename Call>
+  Status timed(const Call& call) {
+    const auto start = Clock::now();
+    const Status status = call();
+    seconds += seconds_since(start);
+    return status;
+  }
+
+  PolygonSink& inner_;
+};
+
+// Memory for both kinds of run, allocated and touched once per dataset so that no run pays for
+// first-touch page faults.
+struct Buffers {
+  Buffers(const VolumeInfo& info, const EngineOptions& counting, const EngineOptions& rendering)
+      : counting_engine(engine_workspace_bytes(info.width, info.height, counting)),
+        rendering_engine(engine_workspace_bytes(info.width, info.height, rendering)),
+        window(slice_window_bytes(info.width, info.height, info.type)),
+        zbuffer(zbuffer_workspace_bytes(kImageSide, kImageSide) / sizeof(float) + 1) {
+    std::memset(counting_engine.data(), 0, counting_engine.bytes());
+    std::memset(rendering_engine.data(), 0, rendering_engine.bytes());
+  }
+  WorkspaceBuffer counting_engine;
+  WorkspaceBuffer rendering_engine;
+  std::vector<unsigned char> window;
+  std::vector<float> zbuffer;
+};
+
+struct Runs {
+  std::vector<double> extraction, rendering, inside_sink;  // seconds, one per run
+  EngineCounters extraction_counters, rendering_counters;
+  RenderCounters render_counters;
+};
+
+// (a): seconds from engine.init() to finish(), or -1 on an engine error.
+double extract(const LoadedVolume& volume, double threshold, const EngineOptions& options,
+               WorkspaceBuffer& workspace, EngineCounters* counters) {
+  const VolumeInfo& info = volume.info;
+  MemorySource source(volume);
+  CountingSink sink;
+  Engine engine;
+  const auto start = Clock::now();
+  if (engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, options,
+                  &sink) != Status::ok ||
+      stream_volume(source, engine) != Status::ok)
+    return -1;
+  const double seconds = seconds_since(start);
+  *counters = engine.counters();
+  return seconds;
+}
+
+// (b): seconds from the window's and renderer's init() to the engine's finish(), or -1 on an
+// error; `inside_sink` gets the part spent in the RenderSink.
+double extract_and_render(const LoadedVolume& volume, double threshold,
+                          const EngineOptions& options, const Camera& camera, Buffers& buffers,
+                          ZBufferRenderer& renderer, EngineCounters* counters,
+                          double* inside_sink) {
+  const VolumeInfo& info = volume.info;
+  const glm::vec3 spacing(info.spacing[0], info.spacing[1], info.spacing[2]);
+  const glm::vec3 origin(info.origin[0], info.origin[1], info.origin[2]);
+  MemorySource source(volume);
+  SliceWindow window;
+  Engine engine;
+  const auto start = Clock::now();
+  if (window.init(buffers.window.data(), buffers.window.size(), info.width, info.height,
+                  info.type) != Status::ok ||
+      renderer.init(buffers.zbuffer.data(), buffers.zbuffer.size() * sizeof(float), camera) !=
+          Status::ok)
+    return -1;
+  const VertexNormals normals(window, spacing);
+  RenderSink render(renderer, spacing, origin, &normals);
+  TimedSink timed(render);
+  if (engine.init(buffers.rendering_engine.data(), buffers.rendering_engine.bytes(), info.width,
+                  info.height, threshold, options, &timed) != Status::ok ||
+      stream_volume(source, engine, {}, &window) != Status::ok)
+    return -1;
+  const double seconds = seconds_since(start);
+  *counters = engine.counters();
+  *inside_sink = timed.seconds;
+  return seconds;
+}
+
+std::string command_line(int argc, char** argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (i) line += ' ';
+    line += arg.find_first_of(" \t'\"*?") == std::string::npos ? arg : "'" + arg + "'";
+  }
+  return line;
+}
+
+std::string milliseconds(const std::vector<double>& seconds) {
+  const auto [low, high] = std::minmax_element(seconds.begin(), seconds.end());
+  char text[96];
+  std::snprintf(text, sizeof text, "%.1f ms (runs %.1f .. %.1f)", median(seconds) * 1e3, *low * 1e3,
+                *high * 1e3);
+  return text;
+}
+
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0f%%", fraction * 100);
+  return text;
+}
+
+void print_table(const PaperDataset& dataset, const LoadedVolume& volume, const Runs& runs,
+                 const std::string& image_path) {
+  const VolumeInfo& info = volume.info;
+  const double a = median(runs.extraction), b = median(runs.rendering);
+  const RenderCounters& r = runs.render_counters;
+  std::printf("### %s\n\n| figure | value |\n|---|---|\n", dataset.name.c_str());
+  std::printf("| voxels | %ux%ux%u %s, spacing %g,%g,%g (%.1f Mvoxel) |\n", info.width, info.height,
+              info.depth, sample_type_name(info.type), info.spacing[0], info.spacing[1],
+              info.spacing[2], double(info.width) * info.height * info.depth / 1e6);
+  std::printf("| threshold | %g |\n", dataset.threshold);
+  const EngineCounters& e = runs.extraction_counters;
+  std::uint64_t corners = 0;
+  for (int size = 0; size <= kMaxPolygonVertices; ++size)
+    corners += size * e.polygons_by_size[size];
+  std::printf("| polygons | %s |\n", grouped(e.polygons).c_str());
+  std::printf("| vertices / polygon corners (normals and transforms are per corner) | %s / %s |\n",
+              grouped(e.vertices).c_str(), grouped(corners).c_str());
+  std::printf("| (a) extraction | %s |\n", milliseconds(runs.extraction).c_str());
+  std::printf("| (b) extraction + rendering | %s |\n", milliseconds(runs.rendering).c_str());
+  std::printf("| rendering = (b) - (a) | %.1f ms |\n", (b - a) * 1e3);
+  std::printf("| rendering inside the RenderSink (normals, drawing) | %s |\n",
+              milliseconds(runs.inside_sink).c_str());
+  std::printf("| render share of extraction, ((b) - (a)) / (a) | %s |\n",
+              percent((b - a) / a).c_str());
+  std::printf("| render share of total, ((b) - (a)) / (b) | %s |\n", percent((b - a) / b).c_str());
+  std::printf("| goal: rendering at most half the extraction time | %s |\n",
+              (b - a) <= 0.5 * a ? "met" : "**not met**");
+  std::printf("| polygons drawn / clipped | %s / %s |\n", grouped(r.polygons).c_str(),
+              grouped(r.polygons_clipped).c_str());
+  std::printf("| triangles drawn / culled | %s / %s |\n", grouped(r.triangles_drawn).c_str(),
+              grouped(r.triangles_culled).c_str());
+  std::printf("| fragments covered / written (of %s pixels) | %s / %s |\n",
+              grouped(std::uint64_t{kImageSide} * kImageSide).c_str(),
+              grouped(r.fragments_covered).c_str(), grouped(r.fragments_written).c_str());
+  if (!image_path.empty()) std::printf("| picture | `%s` |\n", image_path.c_str());
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+struct Summary {
+  std::string dataset;
+  double extraction = 0, rendering = 0, inside_sink = 0;  // median seconds
+};
+
+void print_summary(const std::vector<Summary>& rows) {
+  std::printf(
+      "### Summary\n\n| dataset | (a) extraction | (b) + rendering | rendering | in the sink | "
+      "share of extraction | share of total | at most half? |\n"
+      "|---|---|---|---|---|---|---|---|\n");
+  for (const Summary& row : rows) {
+    const double a = row.extraction, b = row.rendering;
+    std::printf("| %s | %.1f ms | %.1f ms | %.1f ms | %.1f ms | %s | %s | %s |\n",
+                row.dataset.c_str(), a * 1e3, b * 1e3, (b - a) * 1e3, row.inside_sink * 1e3,
+                percent((b - a) / a).c_str(), percent((b - a) / b).c_str(),
+                (b - a) <= 0.5 * a ? "yes" : "no");
+  }
+}
+
+}  // namespace
+}  // namespace mvox::bench
+
+int main(int argc, char** argv) {
+  using namespace mvox;
+  using namespace mvox::bench;
+  std::string root = MVOX_SHARED_DATASETS;
+  std::string only;
+  std::string image_folder;
+  int runs = 5;
+  for (int i = 1; i < argc; i += 2) {
+    const bool has_value = i + 1 < argc;
+    if (has_value && !std::strcmp(argv[i], "--datasets")) {
+      root = argv[i + 1];
+    } else if (has_value && !std::strcmp(argv[i], "--runs")) {
+      runs = std::max(1, std::atoi(argv[i + 1]));
+    } else if (has_value && !std::strcmp(argv[i], "--dataset")) {
+      only = argv[i + 1];
+    } else if (has_value && !std::strcmp(argv[i], "--save-images")) {
+      image_folder = argv[i + 1];
+    } else {
+      std::fprintf(stderr,
+                   "usage: %s [--datasets DIR] [--runs N] [--dataset NAME] [--save-images DIR]\n",
+                   argv[0]);
+      return 2;
+    }
+  }
+  try {
+    std::vector<PaperDataset> datasets = paper_datasets(root);
+    if (!only.empty())
+      datasets.erase(std::remove_if(datasets.begin(), datasets.end(),
+                                    [&](const PaperDataset& d) { return d.name != only; }),
+                     datasets.end());
+    if (datasets.empty()) {
+      std::fprintf(stderr, "mvox_bench_render: no dataset %s found under %s\n", only.c_str(),
+                   root.c_str());
+      return 1;
+    }
+    if (!image_folder.empty()) std::filesystem::create_directories(image_folder);
+
+    std::printf("`%s`\n\n", command_line(argc, argv).c_str());
+    const EngineOptions counting;  // fast engine, merge rules
+    EngineOptions rendering = counting;
+    rendering.polygon_geometry = true;
+    std::vector<Summary> summary;
+    for (const PaperDataset& dataset : datasets) {
+      const LoadedVolume volume = load_dataset(dataset);
+      glm::vec3 box_min, box_max;
+      volume_bounds(volume.info, &box_min, &box_max);
+      const Camera camera = fit_camera(box_min, box_max, ViewOptions{}, kImageSide, kImageSide);
+      Buffers buffers(volume.info, counting, rendering);
+      ZBufferRenderer renderer;
+      Runs measured;
+      for (int run = 0; run < runs; ++run) {  // interleaved, so drift hits (a) and (b) alike
+        double inside_sink = 0;
+        const double a = extract(volume, dataset.threshold, counting, buffers.counting_engine,
+                                 &measured.extraction_counters);
+        const double b = extract_and_render(volume, dataset.threshold, rendering, camera, buffers,
+                                            renderer, &measured.rendering_counters, &inside_sink);
+        if (a < 0 || b < 0) {
+          std::fprintf(stderr, "mvox_bench_render: %s: engine or renderer error\n",
+                       dataset.name.c_str());
+          return 1;
+        }
+        measured.extraction.push_back(a);
+        measured.rendering.push_back(b);
+        measured.inside_sink.push_back(inside_sink);
+      }
+      measured.render_counters = renderer.counters();
+      if (measured.extraction_counters.polygons != measured.rendering_counters.polygons ||
+          measured.render_counters.polygons != measured.rendering_counters.polygons) {
+        std::fprintf(stderr, "mvox_bench_render: %s: polygon counts differ between (a) and (b)\n",
+                     dataset.name.c_str());
+        return 1;
+      }
+      std::string image_path;
+      if (!image_folder.empty()) {
+        image_path = image_folder + "/" + dataset.name + ".png";
+        write_slice_image(image_path,
+                          SliceView{renderer.pixels(), renderer.width(), renderer.height(),
+                                    renderer.width(), SampleType::u8});
+      }
+      print_table(dataset, volume, measured, image_path);
+      summary.push_back({dataset.name, median(measured.extraction), median(measured.rendering),
+                         median(measured.inside_sink)});
+    }
+    print_summary(summary);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mvox_bench_render: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
