@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "error.h"
+#include "live_window.h"
 #include "slice_image_writer.h"
 
 namespace mvox {
@@ -53,6 +54,14 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
 
   if (!options.frames_dir.empty()) prepare_frames_dir(options.frames_dir);
   if (!options.image_path.empty()) image_file_.emplace(options.image_path);
+  if (options.show) {
+    std::string why_not;
+    live_window_ = LiveWindow::open("mvox", &why_not);
+    // The window only shows the run: without it the run is still worth doing.
+    if (!live_window_)
+      std::fprintf(stderr, "mvox: warning: --show: %s; going on without a window\n",
+                   why_not.c_str());
+  }
 }
 
 SurfacePicture::~SurfacePicture() = default;
@@ -80,12 +89,15 @@ void SurfacePicture::write_frame(std::uint32_t slices_done) {
 
 void SurfacePicture::after_slice(std::uint32_t slices_done) {
   if (slices_done % options_.every == 0) write_frame(slices_done);
+  if (live_window_) live_window_->show(renderer_.pixels(), renderer_.width(), renderer_.height());
 }
 
 void SurfacePicture::complete(std::uint32_t slices) {
   // The layer above the last slice (the top cap) is drawn by finish(), after the last
   // after_slice(): the last frame is always the complete picture.
   write_frame(slices);
+  if (live_window_)
+    live_window_->show(renderer_.pixels(), renderer_.width(), renderer_.height(), true);
   if (image_file_) {
     const std::vector<unsigned char> encoded = encode_slice_image(options_.image_path, picture());
     image_file_->write(encoded.data(), encoded.size());

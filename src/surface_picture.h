@@ -17,6 +17,8 @@
 
 namespace mvox {
 
+class LiveWindow;
+
 struct PictureOptions {
   std::string image_path;  // the final picture (.png, .pgm, .tif...); empty: none
   std::uint32_t width = 512;
@@ -68,6 +70,7 @@ class SurfacePicture {
   ZBufferRenderer renderer_;
   std::optional<RenderSink> sink_;
   std::optional<OutputFile> image_file_;
+  std::unique_ptr<LiveWindow> live_window_;
   std::uint32_t last_frame_ = 0;
 };
 

@@ -124,6 +124,15 @@ TEST(PictureCli, RenderDrawsPlyFilesWhateverTheirFormat) {
   EXPECT_EQ(file_bytes(dir / "binary.png"), file_bytes(dir / "culled.png"));
 }
 
+TEST(PictureCli, ShowWithoutADisplayWarnsAndStillWritesThePicture) {
+  ScratchDirectory dir;
+  const auto result =
+      run_mvox("demo --size 32 --show -q", dir.path(), "env -u DISPLAY -u WAYLAND_DISPLAY");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(result.output.rfind("mvox: warning: --show: no display", 0), 0u) << result.output;
+  EXPECT_EQ(dir.listing(), "demo.ply demo.png ");
+}
+
 TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
   ScratchDirectory dir;
   make_torus_stack(dir);

@@ -10,8 +10,10 @@ struct CommandResult {
   std::string output;  // standard output and standard error together
 };
 
-// Runs `mvox ARGUMENTS` through the shell (so quoting works as in a terminal) from `directory`.
-CommandResult run_mvox(const std::string& arguments, const std::filesystem::path& directory);
+// Runs `mvox ARGUMENTS` through the shell (so quoting works as in a terminal) from `directory`,
+// after `prefix` (for instance "env -u DISPLAY").
+CommandResult run_mvox(const std::string& arguments, const std::filesystem::path& directory,
+                       const std::string& prefix = "");
 
 // One line of output, starting "mvox: error: ", mentioning `subject`, with exit code
 // `exit_code` (1: the job failed, 2: a usage error, which adds a line pointing at --help).
