@@ -597,10 +597,11 @@ TEST(ZBufferLighting, WithoutNormalsEachTriangleIsShadedByItsOwnPlane) {
 
 // --- Memory -----------------------------------------------------------------------------------
 
-TEST(ZBufferWorkspace, FiveBytesPerPixelAndNothingElse) {
+TEST(ZBufferWorkspace, FiveBytesPerPixelAndAFixedFragmentBuffer) {
   const std::uint32_t sizes[][2] = {{1, 1}, {3, 2}, {17, 9}, {64, 32}, {640, 480}, {16384, 2}};
   for (const auto& size : sizes) {
-    EXPECT_EQ(zbuffer_workspace_bytes(size[0], size[1]), 5u * size[0] * size[1]);
+    EXPECT_EQ(zbuffer_workspace_bytes(size[0], size[1]),
+              5u * size[0] * size[1] + ZBufferRenderer::fragment_bytes());
     EXPECT_EQ(zbuffer_workspace_bytes(size[0], size[1]), zbuffer_workspace_bytes(size[0], size[1]));
   }
   EXPECT_EQ(zbuffer_workspace_bytes(0, 5), 0u);

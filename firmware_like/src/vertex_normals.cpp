@@ -44,9 +44,28 @@ class ClampedSamples {
   std::int64_t last_x_, last_y_, last_z_;
 };
 
+// Central differences at voxels a and a + e_axis, summed, for a pair well inside the volume:
+// every neighbour exists, so rows are addressed directly, without clamping.
 template <SampleType kType>
-glm::vec3 normal_at(const ClampedSamples<kType>& samples, const glm::vec3& inverse_double_spacing,
-                    const Vertex& v) {
+glm::vec3 interior_differences(const SliceWindow& window, const std::int64_t a[3], int axis) {
+  const auto x = static_cast<std::uint32_t>(a[0]), y = static_cast<std::uint32_t>(a[1]);
+  const auto z = static_cast<std::uint32_t>(a[2]);
+  auto at = [&](std::uint32_t dy, std::uint32_t zz) { return window.row(y + dy - 1, zz); };
+  // d(dx, dy, dz) relative to a, with dx, dy, dz in -1 .. 2 (2 only along `axis`). Grouped as
+  // ClampedSamples::differences() sums, so both paths round alike.
+  auto d = [&](int dx, int dy, int dz) {
+    return load_sample<kType>(at(static_cast<std::uint32_t>(dy + 1), z + dz),
+                              static_cast<std::uint32_t>(static_cast<std::int64_t>(x) + dx));
+  };
+  const int bx = axis == 0, by = axis == 1, bz = axis == 2;  // b = a + (bx, by, bz)
+  return {(d(1, 0, 0) - d(-1, 0, 0)) + (d(bx + 1, by, bz) - d(bx - 1, by, bz)),
+          (d(0, 1, 0) - d(0, -1, 0)) + (d(bx, by + 1, bz) - d(bx, by - 1, bz)),
+          (d(0, 0, 1) - d(0, 0, -1)) + (d(bx, by, bz + 1) - d(bx, by, bz - 1))};
+}
+
+template <SampleType kType>
+glm::vec3 normal_at(const ClampedSamples<kType>& samples, const SliceWindow& window,
+                    const glm::vec3& inverse_double_spacing, const Vertex& v) {
   const int axis = static_cast<int>(v.axis);
   glm::vec3 outward_axis(0.0f);
   outward_axis[axis] = v.inner_is_lower ? 1.0f : -1.0f;
@@ -57,11 +76,19 @@ glm::vec3 normal_at(const ClampedSamples<kType>& samples, const glm::vec3& inver
   const float along = axis == 0 ? v.x : axis == 1 ? v.y : v.z;
   a[axis] = static_cast<std::int64_t>(std::floor(along));
   if (a[axis] < 0 || a[axis] + 1 >= samples.extent(axis)) return outward_axis;
-  std::int64_t b[3] = {a[0], a[1], a[2]};
-  ++b[axis];
-  const glm::vec3 gradient =
-      (samples.differences(a[0], a[1], a[2]) + samples.differences(b[0], b[1], b[2])) *
-      inverse_double_spacing;
+  glm::vec3 differences;
+  // Both voxels' neighbours inside the volume: the common case, read without clamping.
+  bool interior = true;
+  for (int k = 0; k < 3; ++k)
+    interior = interior && a[k] >= 1 && a[k] + (k == axis ? 2 : 1) < samples.extent(k);
+  if (interior) {
+    differences = interior_differences<kType>(window, a, axis);
+  } else {
+    std::int64_t b[3] = {a[0], a[1], a[2]};
+    ++b[axis];
+    differences = samples.differences(a[0], a[1], a[2]) + samples.differences(b[0], b[1], b[2]);
+  }
+  const glm::vec3 gradient = differences * inverse_double_spacing;
   const float length_squared = glm::dot(gradient, gradient);
   if (!(length_squared > 0.0f) || !std::isfinite(length_squared)) return outward_axis;
   return gradient * (-1.0f / std::sqrt(length_squared));
@@ -84,7 +111,7 @@ void VertexNormals::compute(const Vertex* vertices, std::size_t vertex_count,
     constexpr SampleType kType = decltype(tag)::value;
     const ClampedSamples<kType> samples(window_);
     for (std::size_t i = 0; i < vertex_count; ++i)
-      normals[i] = normal_at(samples, inverse_double_spacing_, vertices[i]);
+      normals[i] = normal_at(samples, window_, inverse_double_spacing_, vertices[i]);
   });
 }
 

@@ -63,7 +63,8 @@ struct Edge {
 
 std::size_t zbuffer_workspace_bytes(std::uint32_t width, std::uint32_t height) {
   if (width == 0 || height == 0 || width > kMaxImageSide || height > kMaxImageSide) return 0;
-  return std::size_t{width} * height * (sizeof(float) + sizeof(std::uint8_t));
+  return std::size_t{width} * height * (sizeof(float) + sizeof(std::uint8_t)) +
+         ZBufferRenderer::fragment_bytes();
 }
 
 Status ZBufferRenderer::init(void* workspace, std::size_t workspace_bytes, const Camera& camera,
@@ -80,7 +81,9 @@ Status ZBufferRenderer::init(void* workspace, std::size_t workspace_bytes, const
   camera_ = camera;
   lighting_ = lighting;
   depth_ = static_cast<float*>(workspace);
-  shade_ = reinterpret_cast<std::uint8_t*>(depth_ + std::size_t{width_} * height_);
+  // Floats first, then the fragments (4-byte aligned after them), then the bytes of shade.
+  fragments_ = reinterpret_cast<Fragment*>(depth_ + std::size_t{width_} * height_);
+  shade_ = reinterpret_cast<std::uint8_t*>(fragments_ + kMaxFragments);
   // An orthographic camera's clip w is 1 everywhere: then the whole projection to subpixels
   // and depth is one affine map per coordinate.
   const glm::mat4& m = camera.world_to_clip;  // m[column][row]
@@ -175,61 +178,90 @@ bool ZBufferRenderer::project_polygon(const glm::vec3* positions, int vertex_cou
 
 bool ZBufferRenderer::test_projected(int vertex_count) {
   projected_count_ = vertex_count;
-  // Would any pixel be written? The same traversal as drawing, without writing or shading.
-  // Every triangle is tried (not just up to the first visible one) so that culled triangles
-  // are counted here, once.
-  const std::uint64_t culled_before = counters_.triangles_culled;
+  projected_culled_ = 0;
+  projected_covered_ = 0;
+  fragment_count_ = 0;
+  fragments_overflowed_ = false;
+  // Would any pixel be written? Every triangle is rasterised once here, without writing, and
+  // the pixels nearer than the depth buffer are kept for draw_projected().
   bool visible = false;
-  for (int i = 1; i + 1 < vertex_count; ++i)
-    visible = draw_triangle<false>(projected_[0], projected_[i], projected_[i + 1]) || visible;
-  const std::uint64_t triangles = static_cast<std::uint64_t>(vertex_count - 2);
+  for (int i = 1; i + 1 < vertex_count; ++i) visible = draw_triangle<false>(i, i + 1) || visible;
+  const int triangles = vertex_count - 2;
+  counters_.triangles_culled += static_cast<std::uint64_t>(projected_culled_);
   if (!visible) {
-    counters_.triangles_hidden += triangles - (counters_.triangles_culled - culled_before);
+    counters_.triangles_hidden += static_cast<std::uint64_t>(triangles - projected_culled_);
     projected_count_ = 0;
   }
   return visible;
+}
+
+void ZBufferRenderer::shade_pixel(std::uint32_t pixel, float depth, const glm::vec3& normal) {
+  ++counters_.fragments_written;
+  depth_[pixel] = depth;
+  const float length_squared = glm::dot(normal, normal);
+  // min(): rounding can put the quotient a hair above 1, past the table's end.
+  const float cosine = length_squared > 0.0f
+                           ? std::min(1.0f, std::fabs(normal.z) / std::sqrt(length_squared))
+                           : 0.0f;
+  shade_[pixel] = shade_of_cosine_[static_cast<int>(cosine * (kShadeLevels - 1) + 0.5f)];
 }
 
 void ZBufferRenderer::draw_projected(const glm::vec3* normals) {
   const int count = projected_count_;
   projected_count_ = 0;
   if (count < 3) return;
+  counters_.triangles_drawn += static_cast<std::uint64_t>(count - 2 - projected_culled_);
+  counters_.fragments_covered += projected_covered_;
   if (normals) {
     for (int i = 0; i < count; ++i)
       projected_[i].normal = camera_.world_to_view * normals[i] * projected_[i].inverse_w;
-    for (int i = 1; i + 1 < count; ++i)
-      draw_triangle<true>(projected_[0], projected_[i], projected_[i + 1]);
+    if (!fragments_overflowed_) {
+      // The kept pixels, in the order a second traversal would visit them; a pixel can
+      // appear twice when a non-planar polygon folds over itself, so test depth again.
+      const glm::vec3& normal_0 = projected_[0].normal;
+      for (std::size_t f = 0; f < fragment_count_; ++f) {
+        const Fragment& fragment = fragments_[f];
+        if (!(fragment.depth < depth_[fragment.pixel])) continue;
+        const glm::vec3 n = normal_0 +
+                            fragment.weight_1 * (projected_[fragment.vertex_1].normal - normal_0) +
+                            fragment.weight_2 * (projected_[fragment.vertex_2].normal - normal_0);
+        shade_pixel(fragment.pixel, fragment.depth, n);
+      }
+      return;
+    }
+    for (int i = 1; i + 1 < count; ++i) draw_triangle<true>(i, i + 1);
     return;
   }
   const glm::vec3* p = projected_positions_;
   for (int i = 1; i + 1 < count; ++i) {
-    // Flat: the triangle's own normal at its three corners.
+    // Flat: the triangle's own normal at its three corners (set just before it is drawn).
     const glm::vec3 n = camera_.world_to_view * glm::cross(p[i] - p[0], p[i + 1] - p[0]);
-    ScreenVertex a = projected_[0], b = projected_[i], c = projected_[i + 1];
-    a.normal = b.normal = c.normal = n;
-    draw_triangle<true>(a, b, c);
+    projected_[0].normal = projected_[i].normal = projected_[i + 1].normal = n;
+    draw_triangle<true>(i, i + 1);
   }
 }
 
 template <bool write>
-bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b,
-                                    const ScreenVertex& c) {
-  const ScreenVertex* v0 = &a;
-  const ScreenVertex* v1 = &b;
-  const ScreenVertex* v2 = &c;
+bool ZBufferRenderer::draw_triangle(int i1, int i2) {
+  const ScreenVertex* v0 = &projected_[0];
+  const ScreenVertex* v1 = &projected_[i1];
+  const ScreenVertex* v2 = &projected_[i2];
   // Twice the signed area in y-down pixel coordinates. A triangle wound counter-clockwise as
   // seen (y up: it faces the viewer) turns clockwise when y points down, which makes this
   // negative. Edge functions below want it positive: front faces are drawn as (v0, v2, v1).
   std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
   if (area >= 0) {  // facing away, or edge-on
     if (area == 0 || lighting_.cull_back_faces) {
-      if constexpr (!write) ++counters_.triangles_culled;  // counted once, when projected
+      if constexpr (!write) ++projected_culled_;  // counted once, when projected
       return false;
     }
   } else {
     const ScreenVertex* swap = v1;
     v1 = v2;
     v2 = swap;
+    const int swap_index = i1;
+    i1 = i2;
+    i2 = swap_index;
     area = -area;
   }
 
@@ -243,7 +275,6 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   const std::int64_t first_y = std::max<std::int64_t>(0, first_centre_at_or_after(min_y));
   const std::int64_t last_y =
       std::min<std::int64_t>(height_ - 1, last_centre_at_or_before(max_y));
-  if constexpr (write) ++counters_.triangles_drawn;
   if (first_x > last_x || first_y > last_y) return false;
 
   const std::int64_t start_x = first_x * kSubpixel + kHalfPixel;
@@ -258,36 +289,36 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
   // Normals are only needed when writing; the test pass skips them (if constexpr below).
   const glm::vec3 normal_1 = write ? v1->normal - v0->normal : glm::vec3(0.0f);
   const glm::vec3 normal_2 = write ? v2->normal - v0->normal : glm::vec3(0.0f);
-  const float cosine_scale = static_cast<float>(kShadeLevels - 1);
 
-  bool any_written = false;
+  bool any_nearer = false;
   std::int64_t row_w0 = e0.at_start, row_w1 = e1.at_start, row_w2 = e2.at_start;
   for (std::int64_t py = first_y; py <= last_y; ++py) {
     std::int64_t w0 = row_w0, w1 = row_w1, w2 = row_w2;
-    float* depth_row = depth_ + static_cast<std::size_t>(py) * width_;
-    std::uint8_t* shade_row = shade_ + static_cast<std::size_t>(py) * width_;
+    const std::size_t row_start = static_cast<std::size_t>(py) * width_;
     for (std::int64_t px = first_x; px <= last_x; ++px) {
       if ((w0 | w1 | w2) >= 0) {
         const float l1 = static_cast<float>(w1 - e1.bias) * inverse_area;
         const float l2 = static_cast<float>(w2 - e2.bias) * inverse_area;
         const float depth = v0->depth + l1 * depth_1 + l2 * depth_2;
-        const bool nearer = depth < depth_row[px] && depth >= 0.0f && depth <= 1.0f;
+        const auto pixel = static_cast<std::uint32_t>(row_start + static_cast<std::size_t>(px));
+        const bool nearer = depth < depth_[pixel] && depth >= 0.0f && depth <= 1.0f;
         if constexpr (!write) {
-          if (nearer) return true;
-        } else {
-          ++counters_.fragments_covered;
-        }
-        if (write && nearer) {
-          any_written = true;
-          ++counters_.fragments_written;
-          depth_row[px] = depth;
-          const glm::vec3 n = v0->normal + l1 * normal_1 + l2 * normal_2;
-          const float length_squared = glm::dot(n, n);
-          // min(): rounding can put the quotient a hair above 1, past the table's end.
-          const float cosine = length_squared > 0.0f
-                                   ? std::min(1.0f, std::fabs(n.z) / std::sqrt(length_squared))
-                                   : 0.0f;
-          shade_row[px] = shade_of_cosine_[static_cast<int>(cosine * cosine_scale + 0.5f)];
+          ++projected_covered_;
+          if (nearer) {
+            any_nearer = true;
+            if (fragment_count_ < kMaxFragments)
+              fragments_[fragment_count_++] = {pixel,
+                                               depth,
+                                               l1,
+                                               l2,
+                                               static_cast<std::uint8_t>(i1),
+                                               static_cast<std::uint8_t>(i2)};
+            else
+              fragments_overflowed_ = true;
+          }
+        } else if (nearer) {
+          any_nearer = true;
+          shade_pixel(pixel, depth, v0->normal + l1 * normal_1 + l2 * normal_2);
         }
       }
       w0 += e0.step_x;
@@ -298,7 +329,7 @@ bool ZBufferRenderer::draw_triangle(const ScreenVertex& a, const ScreenVertex& b
     row_w1 += e1.step_y;
     row_w2 += e2.step_y;
   }
-  return any_written;
+  return any_nearer;
 }
 
 }  // namespace mvox

@@ -48,8 +48,9 @@ struct RenderCounters {
   std::uint64_t fragments_written = 0;  // of those, nearer than what was there
 };
 
-// Bytes of workspace for a width x height image: a float depth and a byte of shade per pixel.
-// 0 when a size is 0 or over kMaxImageSide.
+// Bytes of workspace for a width x height image: a float depth and a byte of shade per pixel,
+// plus a fixed 40 KiB for the fragments of the polygon being drawn. 0 when a size is 0 or over
+// kMaxImageSide.
 constexpr std::uint32_t kMaxImageSide = 16384;
 std::size_t zbuffer_workspace_bytes(std::uint32_t width, std::uint32_t height);
 
@@ -99,10 +100,27 @@ class ZBufferRenderer {
     glm::vec3 normal{0.0f};     // view space over clip w: interpolates perspective-correctly
   };
   static constexpr int kMaxVerticesDrawn = 16;
-  // Draws (or with `write` false, only tests) one triangle; returns whether any pixel passed
-  // the depth test.
+  // A pixel of the projected polygon that passed the depth test when it was projected, with
+  // its depth and barycentric weights, so that drawing it needs no second traversal.
+  struct Fragment {
+    std::uint32_t pixel = 0;
+    float depth = 0;
+    float weight_1 = 0, weight_2 = 0;  // of the triangle's vertices `vertex_1`, `vertex_2`
+    std::uint8_t vertex_1 = 0, vertex_2 = 0;  // indices into projected_ (vertex 0 is the apex)
+  };
+  static constexpr std::size_t kMaxFragments = 2048;  // per polygon; beyond: a second pass
+
+ public:
+  // Bytes of the fragment buffer, part of zbuffer_workspace_bytes().
+  static constexpr std::size_t fragment_bytes() { return kMaxFragments * sizeof(Fragment); }
+
+ private:
+  // Rasterises triangle (0, i1, i2) of projected_. Without `write`: records the pixels nearer
+  // than the depth buffer in fragments_ (as many as fit) and returns whether there was one.
+  // With `write`: depth-tests, shades and writes them (the fallback for fragments_ overflow).
   template <bool write>
-  bool draw_triangle(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c);
+  bool draw_triangle(int i1, int i2);
+  void shade_pixel(std::uint32_t pixel, float depth, const glm::vec3& normal);
   // project_polygon()'s second half: would the projected polygon write a pixel?
   bool test_projected(int vertex_count);
 
@@ -123,6 +141,11 @@ class ZBufferRenderer {
   ScreenVertex projected_[kMaxVerticesDrawn];
   glm::vec3 projected_positions_[kMaxVerticesDrawn];
   int projected_count_ = 0;
+  int projected_culled_ = 0;             // of its triangles
+  std::uint64_t projected_covered_ = 0;  // pixel centres inside its triangles
+  Fragment* fragments_ = nullptr;        // kMaxFragments, in the workspace
+  std::size_t fragment_count_ = 0;
+  bool fragments_overflowed_ = false;
 };
 
 }  // namespace mvox
