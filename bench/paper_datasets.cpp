@@ -27,8 +27,9 @@ std::vector<PaperDataset> paper_datasets(const std::string& root) {
        "",
        50,
        "between the background (0-15) and head tissue (16-95)",
-       // Not stated for this resliced 8-bit sagittal set (the 16-bit axial original: 1:1:2).
-       {1, 1, 1}},
+       // Not stated for this 8-bit sagittal set; the 16-bit original's info gives 1:1:2, and
+       // with it the rendered head is round (with 1:1:1 it is flattened side to side).
+       {1, 1, 2}},
   };
   std::vector<PaperDataset> present;
   for (const PaperDataset& dataset : all) {
