@@ -245,6 +245,45 @@ void print_summary(const std::vector<Summary>& rows) {
   }
 }
 
+// `mvox extract` as run from the command line, in process: read the files, extract, write the
+// PLY, and with `picture` also render and write a 512x512 PNG (default view). Outputs go to
+// `folder` and are overwritten each run.
+RunReport end_to_end(const PaperDataset& dataset, bool picture, const std::string& folder) {
+  const auto open_start = Clock::now();
+  auto source = open_dataset(dataset);
+  MeshJob job;
+  job.source_open_s = seconds_since(open_start);
+  job.input_label = dataset.name;
+  job.threshold = dataset.threshold;
+  job.output = folder + "/" + dataset.name + ".ply";
+  job.ply.spacing = dataset.spacing;
+  job.quiet = true;
+  if (picture) job.picture.image_path = folder + "/" + dataset.name + ".png";
+  return run_mesh_job(*source, job);
+}
+
+struct EndToEnd {
+  std::string name;
+  std::vector<double> read, extract, write, render, total, total_without_picture;
+};
+
+void print_end_to_end(const std::vector<EndToEnd>& rows) {
+  std::printf(
+      "### End to end: `mvox extract ... -o mesh.ply --image picture.png`\n\n"
+      "| dataset | read | extract | write PLY | render + PNG | total | render share of total | "
+      "render / extract | total without --image |\n"
+      "|---|---|---|---|---|---|---|---|---|\n");
+  for (const EndToEnd& row : rows) {
+    const double render = median(row.render), total = median(row.total);
+    std::printf("| %s | %.1f ms | %.1f ms | %.1f ms | %.1f ms | %.1f ms | %s | %s | %.1f ms |\n",
+                row.name.c_str(), median(row.read) * 1e3, median(row.extract) * 1e3,
+                median(row.write) * 1e3, render * 1e3, total * 1e3, percent(render / total).c_str(),
+                percent(render / median(row.extract)).c_str(),
+                median(row.total_without_picture) * 1e3);
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 }  // namespace mvox::bench
 
@@ -332,6 +371,30 @@ int main(int argc, char** argv) {
                          median(measured.inside_sink)});
     }
     print_summary(summary);
+
+    // End to end, the same datasets, interleaved with and without the picture.
+    const std::string folder =
+        (std::filesystem::temp_directory_path() / "mvox_bench_render").string();
+    std::filesystem::create_directories(folder);
+    std::vector<EndToEnd> rows;
+    for (const PaperDataset& dataset : datasets) {
+      EndToEnd row;
+      row.name = dataset.name;
+      for (int run = 0; run < runs; ++run) {
+        const RunReport with = end_to_end(dataset, true, folder);
+        const RunReport without = end_to_end(dataset, false, folder);
+        const PhaseTimes& t = with.result.times;
+        row.read.push_back(t.read_s);
+        row.extract.push_back(t.extract_s);
+        row.write.push_back(t.write_s);
+        row.render.push_back(t.render_s);
+        row.total.push_back(t.total_s);
+        row.total_without_picture.push_back(without.result.times.total_s);
+      }
+      rows.push_back(row);
+    }
+    std::filesystem::remove_all(folder);
+    print_end_to_end(rows);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mvox_bench_render: %s\n", e.what());
     return 1;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian machine and runs the main job on its built-in default: installs the
 # dependencies, builds mvox (Release) and runs `mvox demo`, which streams a 3-D Shepp-Logan head
-# phantom through the engine and writes demo.ply in the current directory.
+# phantom through the engine and writes demo.ply and its picture demo.png in the current
+# directory.
 # Extra arguments go to `mvox demo` (try --help).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

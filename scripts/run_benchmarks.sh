@@ -41,11 +41,23 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
   echo "- *(b) extraction + rendering*: the same engine sending polygons by value, fed one slice behind"
   echo "  a four-slice window (\`stream_volume\` with a \`SliceWindow\`), into a \`RenderSink\` with"
   echo "  gradient normals drawing a 512x512 z-buffer picture, orthographic, default view, fitted to the"
-  echo "  volume (CThead with its 1:1:2 voxels)."
+  echo "  volume (CThead and MRbrain with their 1:1:2 voxels)."
   echo "- *rendering* = (b) - (a): polygons by value, window copies, normals, transform and drawing;"
   echo "  *inside the RenderSink* is the part spent in the sink's calls (normals and drawing)."
+  echo "- *End to end*: the job behind \`mvox extract\` in process, with its own phase times (the"
+  echo "  --stats report's): the engine's extra work for the picture (polygons by value, window copies)"
+  echo "  counts as *extract* there, and *render* includes encoding the PNG. *Total without --image* is"
+  echo "  the same job writing only the PLY, in interleaved runs."
   echo
   (cd "$root" && build/bench/mvox_bench_render --runs "$runs")
+  echo
+  echo "Where rendering's time goes (perf, CThead): per-triangle set-up of the visibility test"
+  echo "(about 30% of rendering), projecting every polygon's vertices (20%), gradient normals of the"
+  echo "visible polygons (20%), the engine filling polygons by value (15%); pixels themselves are"
+  echo "cheap (about 2 per drawn triangle). Two thirds of the triangles face away, yet each polygon is"
+  echo "still projected before that is known. What would close the gap: polygons sent as (cube,"
+  echo "configuration) so that the renderer culls whole case polygons from a per-view table and"
+  echo "projects each cube once, plus one normal per vertex instead of one per polygon corner."
   echo
   echo "## Memory does not grow with the number of slices"
   echo

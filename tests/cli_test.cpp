@@ -147,12 +147,13 @@ TEST(Cli, HelpListsTheCommandsAndOptions) {
   ScratchDirectory dir;
   const auto top = run_mvox("--help", dir.path());
   EXPECT_EQ(top.exit_code, 0);
-  for (const char* word : {"extract", "demo", "phantom"})
+  for (const char* word : {"extract", "demo", "phantom", "render"})
     EXPECT_NE(top.output.find(word), std::string::npos);
   const auto extract = run_mvox("extract --help", dir.path());
   EXPECT_EQ(extract.exit_code, 0);
   for (const char* option :
-       {"--threshold", "--raw", "--engine", "--surface", "--stats", "--ascii", "--spacing"})
+       {"--threshold", "--raw", "--engine", "--surface", "--stats", "--ascii", "--spacing",
+        "--image", "--view", "--frames", "--every", "--show", "--normals"})
     EXPECT_NE(extract.output.find(option), std::string::npos) << option;
 }
 

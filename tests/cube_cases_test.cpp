@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
 #include <set>
 #include <utility>
 #include <vector>
@@ -187,6 +190,62 @@ std::set<unsigned> configurations_the_paper_changes(int* edge_pair_plus_far, int
     }
   }
   return result;
+}
+
+// The renderer draws a polygon as a fan of triangles from its first vertex. For a non-planar
+// loop any fan is a surface spanning it; for a planar one the fan stays inside the polygon only
+// if every triangle of it turns the same way (the first vertex sees all the others). This
+// checks that for every planar polygon of every configuration, with both surface rules.
+TEST(CaseTable, EveryPlanarPolygonIsCoveredExactlyByTheFanFromItsFirstVertex) {
+  auto midpoint = [](int e) {
+    const int low = cube::edge_low_corner(e), high = cube::edge_high_corner(e);
+    std::array<double, 3> p{};
+    for (int axis = 0; axis < 3; ++axis)
+      p[axis] = 0.5 * (cube::corner_bit(low, axis) + cube::corner_bit(high, axis));
+    return p;
+  };
+  auto sub = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  };
+  auto cross = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                                 a[0] * b[1] - a[1] * b[0]};
+  };
+  auto dot = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+  int planar = 0, non_planar = 0;
+  for (const SurfaceRule rule : {SurfaceRule::merge_rules, SurfaceRule::paper_table1}) {
+    for (unsigned config = 0; config < 256; ++config) {
+      const CubePolygons& polygons = case_table(rule).cases[config];
+      int offset = 0;
+      for (int p = 0; p < polygons.polygon_count; ++p) {
+        const int n = polygons.polygon_sizes[p];
+        std::vector<std::array<double, 3>> v;
+        for (int i = 0; i < n; ++i) v.push_back(midpoint(polygons.edges[offset + i]));
+        offset += n;
+        // Newell's normal; planar when every vertex lies in the plane through the first.
+        std::array<double, 3> normal{};
+        for (int i = 0; i < n; ++i) {
+          const auto c = cross(v[i], v[(i + 1) % n]);
+          for (int axis = 0; axis < 3; ++axis) normal[axis] += c[axis];
+        }
+        bool is_planar = true;
+        for (int i = 1; i < n; ++i)
+          is_planar = is_planar && std::abs(dot(normal, sub(v[i], v[0]))) < 1e-9;
+        if (!is_planar) {
+          ++non_planar;
+          continue;
+        }
+        ++planar;
+        for (int i = 1; i + 1 < n; ++i)
+          EXPECT_GT(dot(cross(sub(v[i], v[0]), sub(v[i + 1], v[0])), normal), 1e-9)
+              << "configuration " << config << ", polygon " << p << ", fan triangle " << i;
+      }
+    }
+  }
+  EXPECT_GT(planar, 0);
+  std::printf("planar polygons %d, non-planar %d (both rules)\n", planar, non_planar);
 }
 
 TEST(PaperTable1, DiffersFromTheMergeRulesExactlyInTheConfigurationsTheDocsDescribe) {
