@@ -362,9 +362,7 @@ int main(int argc, char** argv) {
       std::string image_path;
       if (!image_folder.empty()) {
         image_path = image_folder + "/" + dataset.name + ".png";
-        write_slice_image(image_path,
-                          SliceView{renderer.pixels(), renderer.width(), renderer.height(),
-                                    renderer.width(), SampleType::u8});
+        write_slice_image(image_path, renderer.picture());
       }
       print_table(dataset, volume, measured, image_path);
       summary.push_back({dataset.name, median(measured.extraction), median(measured.rendering),

@@ -53,13 +53,8 @@ void run_render(const RenderArguments& args) {
     throw Error("renderer", std::string("cannot start: ") + status_message(status));
   draw_mesh(mesh, normals, renderer);
 
-  SliceView picture;
-  picture.samples = renderer.pixels();
-  picture.width = renderer.width();
-  picture.height = renderer.height();
-  picture.row_stride_bytes = renderer.width();
-  picture.type = SampleType::u8;
-  const std::vector<unsigned char> encoded = encode_slice_image(options.image_path, picture);
+  const std::vector<unsigned char> encoded =
+      encode_slice_image(options.image_path, renderer.picture());
   file.write(encoded.data(), encoded.size());
   file.commit();
   if (!args.quiet)

@@ -66,16 +66,6 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
 
 SurfacePicture::~SurfacePicture() = default;
 
-SliceView SurfacePicture::picture() const {
-  SliceView view;
-  view.samples = renderer_.pixels();
-  view.width = renderer_.width();
-  view.height = renderer_.height();
-  view.row_stride_bytes = renderer_.width();
-  view.type = SampleType::u8;
-  return view;
-}
-
 void SurfacePicture::write_frame(std::uint32_t slices_done) {
   if (options_.frames_dir.empty()) return;
   // Numbered by slices done, zero-padded so that names sort in order.
@@ -83,7 +73,8 @@ void SurfacePicture::write_frame(std::uint32_t slices_done) {
   for (std::uint32_t d = depth_; d >= 10000; d /= 10) ++digits;
   char name[32];
   std::snprintf(name, sizeof name, "frame_%0*u.png", digits, slices_done);
-  write_slice_image((std::filesystem::path(options_.frames_dir) / name).string(), picture());
+  write_slice_image((std::filesystem::path(options_.frames_dir) / name).string(),
+                    renderer_.picture());
   last_frame_ = slices_done;
 }
 
@@ -99,7 +90,8 @@ void SurfacePicture::complete(std::uint32_t slices) {
   if (live_window_)
     live_window_->show(renderer_.pixels(), renderer_.width(), renderer_.height(), true);
   if (image_file_) {
-    const std::vector<unsigned char> encoded = encode_slice_image(options_.image_path, picture());
+    const std::vector<unsigned char> encoded =
+        encode_slice_image(options_.image_path, renderer_.picture());
     image_file_->write(encoded.data(), encoded.size());
     image_file_->seal();
   }

@@ -62,7 +62,6 @@ class SurfacePicture {
 
  private:
   void write_frame(std::uint32_t slices_done);
-  SliceView picture() const;
 
   PictureOptions options_;
   std::uint32_t depth_ = 0;    // slices the source announced: sets the frame names' width

@@ -16,6 +16,7 @@
 #include <glm/vec4.hpp>
 
 #include "mvox/camera.h"
+#include "mvox/slice.h"
 #include "mvox/status.h"
 
 namespace mvox {
@@ -86,6 +87,16 @@ class ZBufferRenderer {
 
   // The picture: width() * height() bytes, row by row from the top.
   const std::uint8_t* pixels() const { return shade_; }
+  // The same as a u8 slice view, for image writers.
+  SliceView picture() const {
+    SliceView view;
+    view.samples = shade_;
+    view.width = width_;
+    view.height = height_;
+    view.row_stride_bytes = width_;
+    view.type = SampleType::u8;
+    return view;
+  }
   // Depth per pixel in 0 (near) .. 1 (far); +infinity where nothing was drawn.
   const float* depths() const { return depth_; }
   std::uint32_t width() const { return width_; }
@@ -105,7 +116,7 @@ class ZBufferRenderer {
   struct Fragment {
     std::uint32_t pixel = 0;
     float depth = 0;
-    float weight_1 = 0, weight_2 = 0;  // of the triangle's vertices `vertex_1`, `vertex_2`
+    float weight_1 = 0, weight_2 = 0;         // of the triangle's vertices `vertex_1`, `vertex_2`
     std::uint8_t vertex_1 = 0, vertex_2 = 0;  // indices into projected_ (vertex 0 is the apex)
   };
   static constexpr std::size_t kMaxFragments = 2048;  // per polygon; beyond: a second pass
