@@ -70,6 +70,11 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   report.output = job.output;
   report.image = job.picture.image_path;
   report.volume = source.info();
+  // The report gives the placement the mesh and picture were made with (--spacing wins).
+  for (int axis = 0; axis < 3; ++axis) {
+    report.volume.spacing[axis] = job.ply.spacing[axis];
+    report.volume.origin[axis] = job.ply.origin[axis];
+  }
   report.threshold = job.threshold;
   report.method = "voxels";
   report.engine = engine_kind_name(job.engine.kind);
