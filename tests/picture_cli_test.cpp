@@ -60,10 +60,10 @@ TEST(PictureCli, ExtractCanWriteOnlyAPicture) {
   EXPECT_EQ(dir.listing(), "stack torus.png ");  // no mesh, no temporary
 
   // The report names the picture, what was drawn, and the spacing it was placed with.
-  ASSERT_EQ(run_mvox("extract stack -t 128 --image t.png --spacing 1,1,2 --stats t.json -q",
-                     dir.path())
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      run_mvox("extract stack -t 128 --image t.png --spacing 1,1,2 --stats t.json -q", dir.path())
+          .exit_code,
+      0);
   const std::string report = file_bytes(dir / "t.json");
   EXPECT_NE(report.find("\"image\": \"t.png\""), std::string::npos) << report;
   EXPECT_NE(report.find("\"spacing\": [1, 1, 2]"), std::string::npos) << report;
