@@ -23,7 +23,6 @@ class NormalWindow {
 
   SliceWindow& window() { return window_; }
   const VertexNormals& normals() const { return normals_; }
-  std::size_t workspace_bytes() const { return memory_.size(); }
 
  private:
   std::vector<unsigned char> memory_;

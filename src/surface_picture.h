@@ -58,7 +58,6 @@ class SurfacePicture {
   void publish();
 
   const ZBufferRenderer& renderer() const { return renderer_; }
-  std::size_t workspace_bytes() const { return memory_.size() * sizeof(float); }
 
  private:
   void write_frame(std::uint32_t slices_done);

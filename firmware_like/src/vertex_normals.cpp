@@ -50,15 +50,11 @@ template <SampleType kType>
 glm::vec3 interior_differences(const SliceWindow& window, const std::int64_t a[3], int axis) {
   const auto x = static_cast<std::uint32_t>(a[0]), y = static_cast<std::uint32_t>(a[1]);
   const auto z = static_cast<std::uint32_t>(a[2]);
-  auto at = [&](std::uint32_t dy, std::uint32_t zz) __attribute__((always_inline)) {
-    return window.row(y + dy - 1, zz);
-  };
   // d(dx, dy, dz) relative to a, with dx, dy, dz in -1 .. 2 (2 only along `axis`). Grouped as
   // ClampedSamples::differences() sums, so both paths round alike.
   // always_inline: twelve calls with constant offsets fold into plain loads.
   auto d = [&](int dx, int dy, int dz) __attribute__((always_inline)) {
-    return load_sample<kType>(at(static_cast<std::uint32_t>(dy + 1), z + dz),
-                              static_cast<std::uint32_t>(static_cast<std::int64_t>(x) + dx));
+    return load_sample<kType>(window.row(y + dy, z + dz), x + dx);
   };
   const int bx = axis == 0, by = axis == 1, bz = axis == 2;  // b = a + (bx, by, bz)
   return {(d(1, 0, 0) - d(-1, 0, 0)) + (d(bx + 1, by, bz) - d(bx - 1, by, bz)),
