@@ -3,7 +3,7 @@
 # or test mvox): Debian's VTK and scikit-image Python bindings. Idempotent; apt-get update first.
 set -euo pipefail
 "$(dirname "$0")/install_deps.sh"
-packages=(python3 python3-vtk9 python3-numpy)
+packages=(python3 python3-vtk9 python3-numpy python3-skimage python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
