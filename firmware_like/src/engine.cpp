@@ -4,6 +4,8 @@
 //           s-1 and s, number them in that order and send them to the sink (edge_plane.h);
 //   PASS 3  find the polygons of every cube between slices s-1 and s, which that slice
 //           completes, and send them: by table lookup (fast) or from the literal merge passes.
+// Marching cubes runs the same passes with its own table of triangles (PASS 3) and moves each
+// vertex along its edge to the interpolated crossing (edge_interpolation.h).
 // Slices -1 and D (one past the last) are all outer, so every surface closes.
 #include "mvox/engine.h"
 
@@ -15,8 +17,10 @@
 #include "case_table.h"
 #include "classify.h"
 #include "cube.h"
+#include "edge_interpolation.h"
 #include "edge_plane.h"
 #include "literal_layers.h"
+#include "marching_cubes_table.h"
 
 namespace mvox {
 
@@ -44,11 +48,16 @@ struct Layout {
   std::size_t polygons = 0;
   std::size_t geometry = 0;
   std::size_t literal = 0;
+  std::size_t samples[2] = {};
   std::size_t total = 0;
 };
 
 bool options_valid(const EngineOptions& options) {
-  return (options.kind == EngineKind::fast || options.kind == EngineKind::literal) &&
+  if (options.method == SurfaceMethod::cubes)
+    return options.kind == EngineKind::fast && options.rule == SurfaceRule::merge_rules &&
+           options.vertices_per_batch >= 1 && options.polygons_per_batch >= 1;
+  return options.method == SurfaceMethod::voxels &&
+         (options.kind == EngineKind::fast || options.kind == EngineKind::literal) &&
          (options.rule == SurfaceRule::merge_rules || options.rule == SurfaceRule::paper_table1) &&
          options.vertices_per_batch >= 1 && options.polygons_per_batch >= 1;
 }
@@ -72,6 +81,8 @@ struct detail::EngineState {
   PolygonGeometry* geometry_batch = nullptr;  // parallel to polygon_batch; null unless asked for
   std::uint32_t polygon_fill = 0;
   LiteralLayers literal;
+  EdgeInterpolation interpolation;  // marching cubes only
+  bool interpolate = false;
 
   const std::uint64_t* row(int slot, std::int64_t y, std::uint32_t height) const {
     if (y < 0 || y >= static_cast<std::int64_t>(height)) return zero_row;
@@ -114,6 +125,9 @@ bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptio
                               : 0);
   layout->literal =
       take(options.kind == EngineKind::literal ? LiteralLayers::bytes(width, height) : 0);
+  for (int slot = 0; slot < 2; ++slot)
+    layout->samples[slot] = take(
+        options.method == SurfaceMethod::cubes ? EdgeInterpolation::slab_bytes(width, height) : 0);
   if (offset > SIZE_MAX / 2) return false;
   layout->total = static_cast<std::size_t>(offset);
   return true;
@@ -186,6 +200,12 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
     state->geometry_batch = reinterpret_cast<PolygonGeometry*>(base + layout.geometry);
   if (options.kind == EngineKind::literal)
     state->literal.init(base + layout.literal, width, height);
+  if (options.method == SurfaceMethod::cubes) {
+    state->interpolate = true;
+    state->interpolation.init(reinterpret_cast<unsigned char*>(base + layout.samples[0]),
+                              reinterpret_cast<unsigned char*>(base + layout.samples[1]), width,
+                              height, threshold);
+  }
 
   state_ = state;
   width_ = width;
@@ -212,6 +232,7 @@ class Emitter {
     v.z = z;
     v.axis = axis;
     v.inner_is_lower = inner_is_lower;
+    if (state_.interpolate) state_.interpolation.place(v);
     ++counters_.vertices;
     return state_.vertex_fill < state_.options.vertices_per_batch || flush_vertices();
   }
@@ -422,10 +443,12 @@ bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uin
   return true;
 }
 
-// PASS 3, fast: visits only cubes whose eight voxels are not all alike (computational trimming
-// after Flying Edges), a word of 64 cubes at a time, and looks each configuration up.
-bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
-                     Emitter& emitter) {
+// Calls visit(cx, cy, config) for every cube of the layer between slot `lo` and slot `hi` whose
+// eight voxels are not all alike (computational trimming after Flying Edges), a word of 64
+// cubes at a time; stops when it returns false.
+template <typename VisitCube>
+bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t height,
+                           VisitCube visit) {
   const std::uint32_t words = st.row_words;
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
     const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);  // corners by=0, bz=0
@@ -446,13 +469,49 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std
                                                       (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
                                                       (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 |
                                                       (d0 >> bit & 1) << 6 | (d1 >> bit & 1) << 7);
-        if (!emit_cube(st, lo, hi, w * 64 + static_cast<std::uint32_t>(bit), cy, z, config,
-                       st.table->cases[config], emitter))
-          return false;
+        if (!visit(w * 64 + static_cast<std::uint32_t>(bit), cy, config)) return false;
       }
     }
   }
   return true;
+}
+
+// PASS 3, fast: each surface cube's polygons looked up in the merge-rule table.
+bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
+                     Emitter& emitter) {
+  return for_each_surface_cube(
+      st, lo, hi, height, [&](std::uint32_t cx, std::uint32_t cy, unsigned config) {
+        return emit_cube(st, lo, hi, cx, cy, z, config, st.table->cases[config], emitter);
+      });
+}
+
+// PASS 3, marching cubes: each surface cube's triangles from Lorensen and Cline's table, with
+// their vertices by value moved to the interpolated crossings, as PASS 2 placed them.
+bool emit_layer_cubes(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
+                      Emitter& emitter) {
+  const MarchingCubesTable& table = marching_cubes_table();
+  return for_each_surface_cube(
+      st, lo, hi, height, [&](std::uint32_t cx, std::uint32_t cy, unsigned config) {
+        const MarchingCubesCase& triangles = table.cases[config];
+        for (int t = 0; t < triangles.triangle_count; ++t) {
+          const std::uint8_t* edges = triangles.edges + 3 * t;
+          Polygon& out = emitter.next_polygon();
+          out.vertex_count = 3;
+          for (int i = 0; i < 3; ++i)
+            out.vertices[i] = cube_edge_index(st, lo, hi, edges[i], cx, cy);
+          if (PolygonGeometry* geometry = emitter.next_geometry()) {
+            const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
+            const float z0 = static_cast<float>(z) - 1.0f;
+            geometry->vertex_count = 3;
+            for (int i = 0; i < 3; ++i) {
+              geometry->vertices[i] = cube_edge_vertex(edges[i], x0, y0, z0, config);
+              st.interpolation.place(geometry->vertices[i]);
+            }
+          }
+          if (!emitter.commit_polygon()) return false;
+        }
+        return true;
+      });
 }
 
 // PASS 3, literal: the merged segments of each completed cube, walked into loops.
@@ -479,6 +538,16 @@ bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t z, 
   return true;
 }
 
+// PASS 3 by the method and kind the options chose.
+bool emit_layer_polygons(const EngineState& st, int lo, int hi, std::uint32_t z,
+                         std::uint32_t width, std::uint32_t height, Emitter& emitter) {
+  if (st.options.method == SurfaceMethod::cubes)
+    return emit_layer_cubes(st, lo, hi, z, height, emitter);
+  if (st.options.kind == EngineKind::literal)
+    return emit_layer_literal(st, lo, hi, z, width, height, emitter);
+  return emit_layer_fast(st, lo, hi, z, height, emitter);
+}
+
 }  // namespace
 
 // PASSES 2 and 3 for the cube layer between slice z - 1 and slice z (slot z & 1), whose bit rows
@@ -489,9 +558,7 @@ Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_sl
   Emitter emitter(st, counters_);
   const bool ok = emit_vertices(st, hi, z, height_, real_slice, emitter, counters_.vertices) &&
                   emitter.flush_vertices() &&
-                  (st.options.kind == EngineKind::fast
-                       ? emit_layer_fast(st, lo, hi, z, height_, emitter)
-                       : emit_layer_literal(st, lo, hi, z, width_, height_, emitter)) &&
+                  emit_layer_polygons(st, lo, hi, z, width_, height_, emitter) &&
                   emitter.flush_polygons();
   return ok ? Status::ok : emitter.status();
 }
@@ -510,6 +577,7 @@ Status Engine::push_slice(const SliceView& slice) {
   const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
   counters_.inner_voxels += classify_slice(slice, st.thresholds, st.inner[hi], st.row_words);
+  if (st.interpolate) st.interpolation.store(hi, slice);
   if (st.options.kind == EngineKind::literal)
     st.literal.add_slice(st.inner[lo], st.inner[hi], st.row_words);
 
@@ -527,6 +595,7 @@ Status Engine::finish() {
     const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
     const int hi = static_cast<int>(z & 1);
     std::memset(st.inner[hi], 0, std::size_t{height_} * st.row_words * sizeof(std::uint64_t));
+    st.interpolation.clear(hi);
     if (const Status status = emit_layer(st, z, false); status != Status::ok) return fail(status);
   }
   failure_ = Status::already_finished;

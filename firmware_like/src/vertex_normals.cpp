@@ -44,10 +44,12 @@ class ClampedSamples {
   std::int64_t last_x_, last_y_, last_z_;
 };
 
-// Central differences at voxels a and a + e_axis, summed, for a pair well inside the volume:
-// every neighbour exists, so rows are addressed directly, without clamping.
+// Central differences at voxels a and a + e_axis, weighted by wa and wb and summed, for a pair
+// well inside the volume: every neighbour exists, so rows are addressed directly, without
+// clamping.
 template <SampleType kType>
-glm::vec3 interior_differences(const SliceWindow& window, const std::int64_t a[3], int axis) {
+glm::vec3 interior_differences(const SliceWindow& window, const std::int64_t a[3], int axis,
+                               float wa, float wb) {
   const auto x = static_cast<std::uint32_t>(a[0]), y = static_cast<std::uint32_t>(a[1]);
   const auto z = static_cast<std::uint32_t>(a[2]);
   // d(dx, dy, dz) relative to a, with dx, dy, dz in -1 .. 2 (2 only along `axis`). Grouped as
@@ -57,9 +59,9 @@ glm::vec3 interior_differences(const SliceWindow& window, const std::int64_t a[3
     return load_sample<kType>(window.row(y + dy, z + dz), x + dx);
   };
   const int bx = axis == 0, by = axis == 1, bz = axis == 2;  // b = a + (bx, by, bz)
-  return {(d(1, 0, 0) - d(-1, 0, 0)) + (d(bx + 1, by, bz) - d(bx - 1, by, bz)),
-          (d(0, 1, 0) - d(0, -1, 0)) + (d(bx, by + 1, bz) - d(bx, by - 1, bz)),
-          (d(0, 0, 1) - d(0, 0, -1)) + (d(bx, by, bz + 1) - d(bx, by, bz - 1))};
+  return {wa * (d(1, 0, 0) - d(-1, 0, 0)) + wb * (d(bx + 1, by, bz) - d(bx - 1, by, bz)),
+          wa * (d(0, 1, 0) - d(0, -1, 0)) + wb * (d(bx, by + 1, bz) - d(bx, by - 1, bz)),
+          wa * (d(0, 0, 1) - d(0, 0, -1)) + wb * (d(bx, by, bz + 1) - d(bx, by, bz - 1))};
 }
 
 template <SampleType kType>
@@ -68,12 +70,20 @@ glm::vec3 normal_at(const ClampedSamples<kType>& samples, const SliceWindow& win
   const int axis = static_cast<int>(v.axis);
   glm::vec3 outward_axis(0.0f);
   outward_axis[axis] = v.inner_is_lower ? 1.0f : -1.0f;
-  // The voxel pair: a is the lower along `axis` (the vertex coordinate minus a half), b = a + 1.
-  // Across the axis the coordinates are whole voxel indices (>= 0), so a cast is exact.
+  // The voxel pair: a is the lower along `axis`, b = a + 1. Across the axis the coordinates are
+  // whole voxel indices (>= 0), so a cast is exact. Along it the vertex sits at a + t: t = 1/2
+  // for marching voxels, the interpolated crossing for marching cubes. A crossing exactly at a
+  // voxel (t = 0 or 1) lies at the inner voxel, so the pair is the one on its outer side.
   std::int64_t a[3] = {static_cast<std::int64_t>(v.x), static_cast<std::int64_t>(v.y),
                        static_cast<std::int64_t>(v.z)};
   const float along = axis == 0 ? v.x : axis == 1 ? v.y : v.z;
-  a[axis] = static_cast<std::int64_t>(std::floor(along));
+  const float lower = v.inner_is_lower ? std::floor(along) : -std::floor(-along) - 1.0f;
+  a[axis] = static_cast<std::int64_t>(lower);
+  // The gradient interpolated linearly between the pair, as Lorensen and Cline do, scaled by 2
+  // so that a midpoint's weights are exactly 1 and 1.
+  float t = along - lower;
+  t = t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
+  const float wa = 2.0f * (1.0f - t), wb = 2.0f * t;
   if (a[axis] < 0 || a[axis] + 1 >= samples.extent(axis)) return outward_axis;
   glm::vec3 differences;
   // Both voxels' neighbours inside the volume: the common case, read without clamping.
@@ -81,11 +91,12 @@ glm::vec3 normal_at(const ClampedSamples<kType>& samples, const SliceWindow& win
   for (int k = 0; k < 3; ++k)
     interior = interior && a[k] >= 1 && a[k] + (k == axis ? 2 : 1) < samples.extent(k);
   if (interior) {
-    differences = interior_differences<kType>(window, a, axis);
+    differences = interior_differences<kType>(window, a, axis, wa, wb);
   } else {
     std::int64_t b[3] = {a[0], a[1], a[2]};
     ++b[axis];
-    differences = samples.differences(a[0], a[1], a[2]) + samples.differences(b[0], b[1], b[2]);
+    differences =
+        wa * samples.differences(a[0], a[1], a[2]) + wb * samples.differences(b[0], b[1], b[2]);
   }
   const glm::vec3 gradient = differences * inverse_double_spacing;
   const float length_squared = glm::dot(gradient, gradient);

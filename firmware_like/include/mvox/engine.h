@@ -1,7 +1,7 @@
 #pragma once
-// The streaming marching-voxels engine: slices in, one at a time; indexed polygons out, layer by
-// layer, to a PolygonSink. All memory is the caller's workspace, sized by
-// engine_workspace_bytes(); nothing is allocated after init().
+// The streaming surface engine: slices in, one at a time; indexed polygons out, layer by layer,
+// to a PolygonSink. It runs marching voxels (the default) or classic marching cubes. All memory is
+// the caller's workspace, sized by engine_workspace_bytes(); nothing is allocated after init().
 //
 //   const std::size_t bytes = engine_workspace_bytes(w, h, options);  // 0: refused
 //   std::vector<std::uint64_t> memory(bytes / sizeof(std::uint64_t) + 1);
@@ -26,7 +26,20 @@ struct EngineState;  // pointers into the workspace, defined in engine.cpp
 // malloc and new return at least this on every platform mvox targets.
 constexpr std::size_t kWorkspaceAlignment = alignof(std::uint64_t);
 
-// How the polygons of each 2x2x2 cube are found. Both give identical output.
+// Which surface is extracted.
+enum class SurfaceMethod : std::uint8_t {
+  // Marching voxels: polygons of 3 to 7 vertices, vertices at the midpoints of inner/outer voxel
+  // pairs (DESIGN.md section 2). The default.
+  voxels,
+  // Classic marching cubes (Lorensen and Cline, 1987), the paper's baseline: triangles from the
+  // 256-entry table built from the 15 base configurations (marching_cubes_table.h), vertices
+  // where the linearly interpolated samples cross the threshold. The same vertices, numbered
+  // alike, as marching voxels (only their positions move along their edges). Leaves holes where
+  // a complemented configuration meets an uncomplemented one across an ambiguous face.
+  cubes,
+};
+
+// How marching voxels finds the polygons of each 2x2x2 cube. Both give identical output.
 enum class EngineKind : std::uint8_t {
   fast,     // looks the cube up in a table generated from the literal merge passes (default)
   literal,  // runs the paper's triangle generation and x, y, z merge passes voxel by voxel
@@ -44,6 +57,8 @@ enum class SurfaceRule : std::uint8_t {
 };
 
 struct EngineOptions {
+  SurfaceMethod method = SurfaceMethod::voxels;
+  // Marching voxels only: marching cubes must keep the defaults (fast, merge_rules).
   EngineKind kind = EngineKind::fast;
   SurfaceRule rule = SurfaceRule::merge_rules;
   std::uint32_t vertices_per_batch = 4096;  // >= 1; vertex buffer size in the workspace
@@ -51,6 +66,8 @@ struct EngineOptions {
   // Also send every polygon batch by value (PolygonSink::consume_polygon_geometry), for a
   // renderer. Adds polygons_per_batch * sizeof(PolygonGeometry) bytes (116 each) of workspace.
   bool polygon_geometry = false;
+  // Marching cubes also keeps the samples of the two slices of the current cube layer, to
+  // interpolate vertex positions: 8 bytes per slice pixel more.
 };
 
 // What the engine has seen and produced so far.
@@ -59,7 +76,8 @@ struct EngineCounters {
   std::uint64_t inner_voxels = 0;
   std::uint64_t vertices = 0;
   std::uint64_t polygons = 0;
-  std::uint64_t polygons_by_size[kMaxPolygonVertices + 1] = {};  // index = vertex count (3..7)
+  // index = vertex count (3..7; marching cubes emits only triangles)
+  std::uint64_t polygons_by_size[kMaxPolygonVertices + 1] = {};
 };
 
 // Bytes of workspace an engine for slices of width x height needs with these options.

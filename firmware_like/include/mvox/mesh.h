@@ -5,6 +5,7 @@
 namespace mvox {
 
 // A polygon has 3 to 7 vertices (the loops a 2x2x2 cube can hold; DESIGN.md section 4).
+// Marching cubes emits triangles only.
 constexpr int kMaxPolygonVertices = 7;
 
 // At most this many vertices per mesh: their indices 0 .. 2^31 - 1 fit the signed 32-bit
@@ -14,7 +15,8 @@ constexpr std::uint64_t kMaxVertexCount = std::uint64_t{1} << 31;
 // Axis of the voxel pair a vertex sits between: x, y or z neighbours.
 enum class Axis : std::uint8_t { x = 0, y = 1, z = 2 };
 
-// A surface vertex at the midpoint of an inner voxel and an outer 6-adjacent voxel.
+// A surface vertex at the midpoint of an inner voxel and an outer 6-adjacent voxel (marching
+// voxels), or elsewhere on the segment between them (marching cubes interpolates).
 // Coordinates are in voxel units: x = column, y = row, z = slice index, so the midpoint of
 // voxels (3,4,5) and (4,4,5) is (3.5, 4, 5). The engine numbers vertices 0, 1, 2, ... in the
 // order they are emitted. `inner_is_lower` tells whether the inner voxel is the one with the
