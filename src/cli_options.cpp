@@ -21,8 +21,11 @@ CLI::Validator finite_number() {
 }
 
 void add_engine_options(CLI::App& command, EngineChoice& choice) {
-  command.add_option("--method", choice.method, "Surface method")
-      ->check(CLI::IsMember({"voxels"}))
+  command
+      .add_option("--method", choice.method,
+                  "voxels: marching voxels (polygons, closed surface); cubes: classic marching "
+                  "cubes (triangles, interpolated vertices; the paper's baseline)")
+      ->check(CLI::IsMember({"voxels", "cubes"}))
       ->capture_default_str();
   command
       .add_option("--engine", choice.engine,
@@ -40,6 +43,13 @@ void add_engine_options(CLI::App& command, EngineChoice& choice) {
 
 EngineOptions EngineChoice::options() const {
   EngineOptions result;
+  if (method == "cubes") {
+    if (engine != "fast" || surface != "merge-rules")
+      throw Error("--method cubes",
+                  "has its own table; --engine and --surface choose how marching voxels works");
+    result.method = SurfaceMethod::cubes;
+    return result;
+  }
   result.kind = engine == "literal" ? EngineKind::literal : EngineKind::fast;
   result.rule = surface == "paper-table1" ? SurfaceRule::paper_table1 : SurfaceRule::merge_rules;
   return result;

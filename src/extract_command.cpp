@@ -50,9 +50,12 @@ void run_extract(const ExtractArguments& args) {
   job.stats_path = args.stats_path;
   job.quiet = args.quiet;
   char comment[160];
-  std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
-                args.threshold, engine_kind_name(job.engine.kind),
-                surface_rule_name(job.engine.rule));
+  if (job.engine.method == SurfaceMethod::cubes)
+    std::snprintf(comment, sizeof comment, "mvox marching cubes, threshold %g", args.threshold);
+  else
+    std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
+                  args.threshold, engine_kind_name(job.engine.kind),
+                  surface_rule_name(job.engine.rule));
   job.ply = ply_writer_options(args.ply, info.spacing, info.origin, comment);
   job.normals = args.normals;
   job.picture = args.picture.options();

@@ -20,6 +20,10 @@ std::string grouped(std::uint64_t value) {
   return digits;
 }
 
+const char* surface_method_name(SurfaceMethod method) {
+  return method == SurfaceMethod::cubes ? "cubes" : "voxels";
+}
+
 const char* engine_kind_name(EngineKind kind) {
   return kind == EngineKind::literal ? "literal" : "fast";
 }
@@ -35,13 +39,19 @@ void print_summary(const RunReport& r) {
   const PhaseTimes& t = r.result.times;
   const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
   const std::string& named = r.output.empty() ? r.image : r.output;
-  std::fprintf(stderr, "%s: %s vertices, %s polygons (", named.c_str(), grouped(c.vertices).c_str(),
-               grouped(c.polygons).c_str());
-  for (int size = 3; size <= kMaxPolygonVertices; ++size)
-    std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
-                 grouped(c.polygons_by_size[size]).c_str());
+  if (r.method == "cubes") {
+    std::fprintf(stderr, "%s: %s vertices, %s triangles (marching cubes)", named.c_str(),
+                 grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
+  } else {
+    std::fprintf(stderr, "%s: %s vertices, %s polygons (", named.c_str(),
+                 grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
+    for (int size = 3; size <= kMaxPolygonVertices; ++size)
+      std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
+                   grouped(c.polygons_by_size[size]).c_str());
+    std::fprintf(stderr, ")");
+  }
   std::fprintf(stderr,
-               ")\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
+               "\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
                "(%.0f Mvoxel/s), write %.3f s, render %.3f s\n  peak memory %.1f MiB, of which "
                "%.1f MiB for this job "
                "(the rest is libraries)\n",
@@ -76,7 +86,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     report.volume.origin[axis] = job.ply.origin[axis];
   }
   report.threshold = job.threshold;
-  report.method = "voxels";
+  report.method = surface_method_name(job.engine.method);
   report.engine = engine_kind_name(job.engine.kind);
   report.surface = surface_rule_name(job.engine.rule);
 

@@ -32,6 +32,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job);
 // "123,456": large counts are easier to read with separators.
 std::string grouped(std::uint64_t value);
 
+const char* surface_method_name(SurfaceMethod method);  // "voxels", "cubes"
 const char* engine_kind_name(EngineKind kind);
 const char* surface_rule_name(SurfaceRule rule);
 

@@ -16,7 +16,7 @@ struct RunReport {
   RenderCounters render;  // what the renderer drew (zero without a picture)
   VolumeInfo volume;
   double threshold = 0;
-  std::string method;   // "voxels"
+  std::string method;   // "voxels" or "cubes"
   std::string engine;   // "fast" or "literal"
   std::string surface;  // "merge-rules" or "paper-table1"
   PipelineResult result;

@@ -103,6 +103,45 @@ TEST(Cli, LiteralEngineAsciiAndSpacingOptions) {
   EXPECT_EQ(ascii.face_indices, fast.face_indices);
 }
 
+TEST(Cli, MarchingCubesMethodWritesTrianglesWithInterpolatedVertices) {
+  ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom torus -o stack --size 40x36x22 -q", dir.path()).exit_code, 0);
+  auto voxels = run_mvox("extract stack -t 128 -o voxels.ply -q", dir.path());
+  ASSERT_EQ(voxels.exit_code, 0) << voxels.output;
+  auto cubes =
+      run_mvox("extract stack -t 128 --method cubes -o cubes.ply --stats cubes.json", dir.path());
+  ASSERT_EQ(cubes.exit_code, 0) << cubes.output;
+  EXPECT_NE(cubes.output.find("triangles (marching cubes)"), std::string::npos) << cubes.output;
+
+  const PlyMesh from_voxels = read_ply(dir / "voxels.ply");
+  const PlyMesh from_cubes = read_ply(dir / "cubes.ply");
+  // The same vertices, moved along their edges; triangles only.
+  ASSERT_EQ(from_cubes.positions.size(), from_voxels.positions.size());
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < from_cubes.positions.size(); ++i)
+    moved += from_cubes.positions[i] != from_voxels.positions[i];
+  EXPECT_GT(moved, from_cubes.positions.size() / 2);
+  for (std::size_t f = 0; f < from_cubes.face_count(); ++f)
+    ASSERT_EQ(from_cubes.face_offsets[f + 1] - from_cubes.face_offsets[f], 3u) << "face " << f;
+  // What the engine gives in memory, through the file unchanged.
+  const auto torus = sim::make_phantom("torus", {40, 36, 22}, 1);
+  sim::SimulatedScanner scanner(*torus);
+  EngineOptions options;
+  options.method = SurfaceMethod::cubes;
+  const test::Mesh direct = test::extract(scanner, 128, options);
+  EXPECT_EQ(to_test_mesh(from_cubes).polygons, direct.polygons);
+  const std::string json = read_text(dir / "cubes.json");
+  EXPECT_NE(json.find("\"method\": \"cubes\""), std::string::npos) << json;
+
+  // Options that only marching voxels has are refused, not ignored.
+  expect_one_line_error(
+      run_mvox("extract stack -t 128 --method cubes --engine literal -o x.ply", dir.path()),
+      "--method cubes");
+  expect_one_line_error(run_mvox("extract stack -t 128 --method squares -o x.ply", dir.path()),
+                        "--method", 2);
+  EXPECT_EQ(dir.listing(), "cubes.json cubes.ply stack voxels.ply ");
+}
+
 TEST(Cli, DemoNeedsNoFilesAndWritesDemoPly) {
   ScratchDirectory dir;
   const auto result = run_mvox("demo --size 48", dir.path());

@@ -418,40 +418,56 @@ class GeometryCheckingSink final : public test::MeshCapture {
   bool awaiting_geometry_ = false;
 };
 
-// Runs the engine with polygon_geometry over `volume` for every engine kind, surface rule and
-// two batch sizes; each geometry batch must equal its polygon batch by value, and the indexed
-// output must be what it is without the option.
-void expect_geometry_equals_indexed_polygons(const BinaryVolume& volume, const std::string& label) {
-  for (EngineKind kind : {EngineKind::fast, EngineKind::literal})
-    for (SurfaceRule rule : {SurfaceRule::merge_rules, SurfaceRule::paper_table1})
-      for (std::uint32_t batch : {4096u, 3u}) {
-        EngineOptions options;
-        options.kind = kind;
-        options.rule = rule;
-        options.vertices_per_batch = batch == 3 ? 5 : batch;
-        options.polygons_per_batch = batch;
-        const Mesh plain = extract(volume, 1, options);
-        options.polygon_geometry = true;
-        GeometryCheckingSink sink;
-        Workspace workspace(engine_workspace_bytes(volume.width, volume.height, options));
-        Engine engine;
-        ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height, 1,
-                              options, &sink),
-                  Status::ok);
-        for (std::uint32_t z = 0; z < volume.depth; ++z)
-          ASSERT_EQ(engine.push_slice(slice_of(volume, z)), Status::ok);
-        ASSERT_EQ(engine.finish(), Status::ok);
-        const std::string where = label + (kind == EngineKind::fast ? " fast" : " literal") +
-                                  (rule == SurfaceRule::merge_rules ? " merge_rules" : " table1") +
-                                  " batch " + std::to_string(batch);
-        EXPECT_GT(sink.mesh.polygons.size(), 0u) << where;
-        EXPECT_EQ(sink.mismatches, 0u) << where;
-        EXPECT_EQ(sink.out_of_order, 0u) << where;
-        EXPECT_FALSE(sink.awaiting_geometry()) << where;
-        EXPECT_EQ(sink.geometry_batches, sink.polygon_batches) << where;
-        EXPECT_EQ(sink.geometry_polygons, sink.mesh.polygons.size()) << where;
-        EXPECT_TRUE(test::meshes_identical(sink.mesh, plain)) << where;
-      }
+// Runs the engine with polygon_geometry over `volume` for every engine kind and surface rule of
+// marching voxels, and for marching cubes, with two batch sizes; each geometry batch must equal
+// its polygon batch by value, and the indexed output must be what it is without the option.
+void expect_geometry_equals_indexed_polygons(const BinaryVolume& volume, const std::string& label,
+                                             double threshold = 1) {
+  struct Variant {
+    SurfaceMethod method;
+    EngineKind kind;
+    SurfaceRule rule;
+  };
+  const Variant variants[] = {
+      {SurfaceMethod::voxels, EngineKind::fast, SurfaceRule::merge_rules},
+      {SurfaceMethod::voxels, EngineKind::fast, SurfaceRule::paper_table1},
+      {SurfaceMethod::voxels, EngineKind::literal, SurfaceRule::merge_rules},
+      {SurfaceMethod::voxels, EngineKind::literal, SurfaceRule::paper_table1},
+      {SurfaceMethod::cubes, EngineKind::fast, SurfaceRule::merge_rules}};
+  for (const Variant& variant : variants)
+    for (std::uint32_t batch : {4096u, 3u}) {
+      const EngineKind kind = variant.kind;
+      const SurfaceRule rule = variant.rule;
+      EngineOptions options;
+      options.method = variant.method;
+      options.kind = kind;
+      options.rule = rule;
+      options.vertices_per_batch = batch == 3 ? 5 : batch;
+      options.polygons_per_batch = batch;
+      const Mesh plain = extract(volume, threshold, options);
+      options.polygon_geometry = true;
+      GeometryCheckingSink sink;
+      Workspace workspace(engine_workspace_bytes(volume.width, volume.height, options));
+      Engine engine;
+      ASSERT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height,
+                            threshold, options, &sink),
+                Status::ok);
+      for (std::uint32_t z = 0; z < volume.depth; ++z)
+        ASSERT_EQ(engine.push_slice(slice_of(volume, z)), Status::ok);
+      ASSERT_EQ(engine.finish(), Status::ok);
+      const std::string where = label +
+                                (variant.method == SurfaceMethod::cubes ? " cubes" : " voxels") +
+                                (kind == EngineKind::fast ? " fast" : " literal") +
+                                (rule == SurfaceRule::merge_rules ? " merge_rules" : " table1") +
+                                " batch " + std::to_string(batch);
+      EXPECT_GT(sink.mesh.polygons.size(), 0u) << where;
+      EXPECT_EQ(sink.mismatches, 0u) << where;
+      EXPECT_EQ(sink.out_of_order, 0u) << where;
+      EXPECT_FALSE(sink.awaiting_geometry()) << where;
+      EXPECT_EQ(sink.geometry_batches, sink.polygon_batches) << where;
+      EXPECT_EQ(sink.geometry_polygons, sink.mesh.polygons.size()) << where;
+      EXPECT_TRUE(test::meshes_identical(sink.mesh, plain)) << where;
+    }
 }
 
 BinaryVolume classified(const sim::Phantom& phantom, double density_threshold) {
@@ -473,6 +489,8 @@ TEST(EngineGeometry, EveryGeometryBatchIsItsPolygonBatchByValue) {
   }
   // Odd-sized noise: every cube configuration, small enough to look at when it fails.
   auto noise = noise_volume(7, 5, 6, 17);
+  // Unclassified: marching cubes' vertices then sit anywhere along their edges.
+  expect_geometry_equals_indexed_polygons(noise, "noise 0..255 7x5x6", 128);
   for (auto& sample : noise.samples) sample = sample >= 128;
   expect_geometry_equals_indexed_polygons(noise, "noise 7x5x6");
 }

@@ -180,7 +180,8 @@ struct StreamedNormals {
 
 // Streams `source` through an engine with a slice window (stream_volume feeds the engine one
 // slice behind) and returns every vertex with the normal computed when it arrived.
-StreamedNormals stream_normals(SliceSource& source, double threshold) {
+StreamedNormals stream_normals(SliceSource& source, double threshold,
+                               SurfaceMethod method = SurfaceMethod::voxels) {
   const VolumeInfo& info = source.info();
   std::vector<unsigned char> window_memory(slice_window_bytes(info.width, info.height, info.type));
   SliceWindow window;
@@ -192,6 +193,7 @@ StreamedNormals stream_normals(SliceSource& source, double threshold) {
                         static_cast<float>(info.spacing[2])));
   NormalsSink sink(normals);
   EngineOptions options;
+  options.method = method;
   options.vertices_per_batch = 61;  // many batches, so normals are asked for mid-slice too
   test::Workspace workspace(engine_workspace_bytes(info.width, info.height, options));
   Engine engine;
@@ -302,6 +304,44 @@ TEST(VertexNormals, ALinearDensityGivesMinusItsGradientPerWorldUnit) {
   expect_linear_density_normals<std::uint16_t>(SampleType::u16, 0);
   expect_linear_density_normals<std::uint8_t>(SampleType::u8, 0);
   expect_linear_density_normals<std::int16_t>(SampleType::i16, -200);  // negative samples
+}
+
+// Marching cubes puts vertices anywhere along their edges, and the gradient is interpolated to
+// the vertex. On x^2 + 3y + z central differences are exact, (2x, 3, 1), and linear in x, so
+// the interpolated gradient is the density's own gradient at the vertex; an average of the two
+// voxels' gradients (right only at midpoints) would be off wherever t differs from 1/2.
+TEST(VertexNormals, MarchingCubesVerticesGetTheGradientInterpolatedToWhereTheySit) {
+  const std::uint32_t w = 9, h = 8, d = 7;
+  test::Volume<float> volume(w, h, d);
+  for (std::uint32_t z = 0; z < d; ++z)
+    for (std::uint32_t y = 0; y < h; ++y)
+      for (std::uint32_t x = 0; x < w; ++x)
+        volume.at(x, y, z) = static_cast<float>(x * x + 3 * y + z);
+  VolumeSource<float> source(volume, SampleType::f32, {1, 1, 1});
+  const StreamedNormals streamed = stream_normals(source, 30.3, SurfaceMethod::cubes);
+  const std::int64_t extent[3] = {w, h, d};
+  std::size_t checked = 0, off_midpoint = 0;
+  for (std::size_t i = 0; i < streamed.vertices.size(); ++i) {
+    const Vertex& v = streamed.vertices[i];
+    const VoxelPair pair = voxel_pair(v);
+    bool all_inside = true;
+    for (int side = 0; side < 2; ++side)
+      for (int k = 0; k < 3; ++k) {
+        const std::int64_t c = pair.low[k] + (side == 1 && k == pair.axis);
+        all_inside = all_inside && c >= 1 && c + 1 < extent[k];
+      }
+    if (!all_inside) continue;
+    ++checked;
+    const float along = pair.axis == 0 ? v.x : pair.axis == 1 ? v.y : v.z;
+    off_midpoint += std::abs(along - std::floor(along) - 0.5f) > 0.1f;
+    const glm::dvec3 expected = -glm::normalize(glm::dvec3(2.0 * v.x, 3, 1));
+    const glm::vec3& n = streamed.normals[i];
+    EXPECT_NEAR(n.x, expected.x, 1e-5) << v.x << "," << v.y << "," << v.z;
+    EXPECT_NEAR(n.y, expected.y, 1e-5) << v.x << "," << v.y << "," << v.z;
+    EXPECT_NEAR(n.z, expected.z, 1e-5) << v.x << "," << v.y << "," << v.z;
+  }
+  EXPECT_GT(checked, 20u);
+  EXPECT_GT(off_midpoint, 10u);
 }
 
 TEST(VertexNormals, WhereTheGradientVanishesTheOutwardAxisIsUsed) {

@@ -9,7 +9,9 @@
 // of that paper, in this project's corner and edge numbering (cube.h); the winding of the base
 // triangles is computed, not typed. Every other configuration is found as the image of a base
 // configuration under one of the 48 symmetries of the cube (rotations first, then mirrors), and
-// only when none matches, as the image of a base configuration's complement. Complementing
+// only when none matches, as the image of a base configuration's complement. Lorensen and Cline
+// used rotations only, hence two staircases that are mirror images; with mirrors the first
+// reaches every configuration of the second, whose entry stays for completeness. Complementing
 // keeps the triangles and swaps inside and outside, so on a face with two diagonal inner
 // corners it joins the inner corners where the uncomplemented neighbour separates them: the
 // holes the marching voxels paper points out.
