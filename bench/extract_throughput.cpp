@@ -14,38 +14,17 @@
 #include <string>
 #include <vector>
 
-#include "counting_sink.h"
 #include "error.h"
+#include "in_memory_extract.h"
 #include "mesh_job.h"
 #include "paper_datasets.h"
 #include "pipeline.h"
 #include "ply_writer.h"
-#include "workspace_buffer.h"
 
 namespace mvox::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double extract_in_memory(const LoadedVolume& volume, double threshold, EngineKind kind,
-                         EngineCounters* counters) {
-  EngineOptions options;
-  options.kind = kind;
-  const VolumeInfo& info = volume.info;
-  WorkspaceBuffer workspace(engine_workspace_bytes(info.width, info.height, options));
-  CountingSink sink;
-  Engine engine;
-  const auto start = Clock::now();
-  if (engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, options,
-                  &sink) != Status::ok)
-    return -1;
-  for (std::uint32_t z = 0; z < info.depth; ++z)
-    if (engine.push_slice(volume.slice(z)) != Status::ok) return -1;
-  if (engine.finish() != Status::ok) return -1;
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  *counters = engine.counters();
-  return seconds;
-}
 
 double extract_end_to_end(const PaperDataset& dataset, EngineKind kind, const std::string& output) {
   const auto start = Clock::now();
@@ -88,6 +67,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     const std::string output = scratch + "/mvox_bench_extract.ply";
+    EngineOptions fast_options, literal_options;
+    literal_options.kind = EngineKind::literal;
 
     std::printf(
         "| dataset | voxels | threshold | vertices | polygons | fast, in memory | literal, in "
@@ -102,9 +83,9 @@ int main(int argc, char** argv) {
       EngineCounters fast_counters, literal_counters;
       for (int run = 0; run < runs; ++run) {  // interleaved, so drift hits both engines alike
         fast_memory.push_back(
-            extract_in_memory(volume, dataset.threshold, EngineKind::fast, &fast_counters));
+            extract_in_memory(volume, dataset.threshold, fast_options, &fast_counters));
         literal_memory.push_back(
-            extract_in_memory(volume, dataset.threshold, EngineKind::literal, &literal_counters));
+            extract_in_memory(volume, dataset.threshold, literal_options, &literal_counters));
         fast_files.push_back(extract_end_to_end(dataset, EngineKind::fast, output));
         literal_files.push_back(extract_end_to_end(dataset, EngineKind::literal, output));
       }

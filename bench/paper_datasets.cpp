@@ -7,8 +7,8 @@
 
 namespace mvox::bench {
 
-std::vector<PaperDataset> paper_datasets(const std::string& root) {
-  const std::vector<PaperDataset> all = {
+std::vector<PaperDataset> all_paper_datasets(const std::string& root) {
+  return {
       {"CThead",
        {root + "/cthead/CThead.*"},
        "256x256:u16be",
@@ -31,11 +31,16 @@ std::vector<PaperDataset> paper_datasets(const std::string& root) {
        // with it the rendered head is round (with 1:1:1 it is flattened side to side).
        {1, 1, 2}},
   };
+}
+
+bool dataset_present(const PaperDataset& dataset) {
+  return std::filesystem::exists(std::filesystem::path(dataset.inputs[0]).parent_path());
+}
+
+std::vector<PaperDataset> paper_datasets(const std::string& root) {
   std::vector<PaperDataset> present;
-  for (const PaperDataset& dataset : all) {
-    const std::string folder = std::filesystem::path(dataset.inputs[0]).parent_path().string();
-    if (std::filesystem::exists(folder)) present.push_back(dataset);
-  }
+  for (const PaperDataset& dataset : all_paper_datasets(root))
+    if (dataset_present(dataset)) present.push_back(dataset);
   return present;
 }
 

@@ -25,6 +25,13 @@ struct PaperDataset {
   std::array<double, 3> spacing = {1, 1, 1};
 };
 
+// All three datasets as they would be found under `root` (normally ../shared/datasets), whether
+// present or not.
+std::vector<PaperDataset> all_paper_datasets(const std::string& root);
+
+// Whether the folder of `dataset` exists (its files may still be unreadable).
+bool dataset_present(const PaperDataset& dataset);
+
 // The datasets under `root` (normally ../shared/datasets). Missing ones are skipped.
 std::vector<PaperDataset> paper_datasets(const std::string& root);
 

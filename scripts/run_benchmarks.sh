@@ -4,10 +4,10 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 runs=${RUNS:-5}
-"$root/scripts/install_deps.sh" >/dev/null
+"$root/scripts/install_bench_deps.sh" >/dev/null  # mvox's own, plus VTK and scikit-image
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_bench_extract mvox_bench_render \
-  mvox_bench_paper >/dev/null
+cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_bench_extract \
+  mvox_bench_extract_once mvox_bench_render mvox_bench_paper >/dev/null
 
 out="$root/docs/benchmarks.md"
 tmp=$(mktemp)
@@ -32,6 +32,28 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
   echo "- Both engines give identical output (the program checks the counts)."
   echo
   "$root/build/bench/mvox_bench_extract" --runs "$runs"
+  echo
+  echo "## Side by side with VTK and scikit-image"
+  echo
+  echo "\`/usr/bin/python3 bench/compare_peers.py --runs $runs\` (Debian's python3-vtk9 and"
+  echo "python3-skimage): every tool extracts the same surface from the same volume in the same run,"
+  echo "one thread each, extraction only, in memory. Runs of the tools are interleaved, the order"
+  echo "rotated each run, after one untimed round."
+  echo
+  echo "- *mvox, in memory*: as above (\`mvox_bench_extract_once\`, the fast engine into a sink that"
+  echo "  only counts). *mvox, end to end*: the wall time of an \`mvox extract ... -o tmp.ply\` process."
+  echo "- *VTK*: only \`Update()\` is timed, on a \`vtkImageData\` built beforehand from the numpy"
+  echo "  volume; normals, gradients and scalars off; the Sequential SMP backend (one thread; the script"
+  echo "  checks that no CPU time was spent outside its main thread). vtkDiscreteFlyingEdges3D gets"
+  echo "  the 0/1 mask (value >= threshold), label 1."
+  echo "- *scikit-image*: \`marching_cubes(volume, level)\`, default method (Lewiner), on a float32"
+  echo "  copy made beforehand."
+  echo "- mvox's rule is value >= threshold D; on integer data the iso value D - 0.5 classifies every"
+  echo "  voxel the same way."
+  echo "- Vertex check: on each dataset's 0/1 mask, mvox's vertices and the points of the three VTK"
+  echo "  filters are the same set (all at edge midpoints), with the same count."
+  echo
+  (cd "$root" && /usr/bin/python3 bench/compare_peers.py --runs "$runs")
   echo
   echo "## Rendering's share of the time"
   echo
