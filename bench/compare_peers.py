@@ -111,8 +111,9 @@ def skimage_tool(volume, level):
     return run
 
 
-def mvox_in_memory_tool(extract_once, dataset, root):
+def mvox_in_memory_tool(extract_once, dataset, root, method="voxels"):
     command = [extract_once, "--dataset", dataset["name"], "--runs", "1", "--datasets", root]
+    command += ["--method", method]
 
     def run():
         figures = json.loads(
@@ -183,6 +184,10 @@ def compare_dataset(dataset, volume, args, scratch):
             mvox_in_memory_tool(args.extract_once, dataset, args.datasets),
         ),
         "mvox, end to end": (at_least, mvox_end_to_end_tool(args.mvox, dataset, end_to_end_ply)),
+        "mvox --method cubes, in memory": (
+            at_least,
+            mvox_in_memory_tool(args.extract_once, dataset, args.datasets, "cubes"),
+        ),
         "vtkFlyingEdges3D": (f"{iso:g}", vtk_tool(vtk.vtkFlyingEdges3D, image, iso)),
         "vtkMarchingCubes": (f"{iso:g}", vtk_tool(vtk.vtkMarchingCubes, image, iso)),
         "vtkDiscreteFlyingEdges3D": (

@@ -2,7 +2,7 @@
 // which runs it between the runs of VTK and scikit-image and so needs mvox as a separate
 // process that prints machine-readable figures.
 //
-//   mvox_bench_extract_once --dataset NAME [--runs K] [--datasets DIR] [--method voxels]
+//   mvox_bench_extract_once --dataset NAME [--runs K] [--datasets DIR] [--method voxels|cubes]
 //   mvox_bench_extract_once --list [--datasets DIR]
 //
 // The first form decodes the dataset into memory (not timed), extracts once to warm caches and
@@ -25,14 +25,14 @@
 namespace mvox::bench {
 namespace {
 
-// The surface methods --method accepts and the engine options each needs. A new method is one
-// more row (marching cubes: {"cubes", [](EngineOptions& o) { o.method = ...; }}).
+// The surface methods --method accepts and the engine options each needs.
 struct Method {
   const char* name;
   void (*configure)(EngineOptions& options);
 };
 const Method kMethods[] = {
     {"voxels", [](EngineOptions&) {}},
+    {"cubes", [](EngineOptions& options) { options.method = SurfaceMethod::cubes; }},
 };
 
 const Method* find_method(const std::string& name) {
@@ -97,7 +97,7 @@ int time_dataset(const PaperDataset& dataset, const Method& method, int runs) {
 
 int usage(const char* program) {
   std::fprintf(stderr,
-               "usage: %s --dataset NAME [--runs K] [--datasets DIR] [--method voxels]\n"
+               "usage: %s --dataset NAME [--runs K] [--datasets DIR] [--method voxels|cubes]\n"
                "       %s --list [--datasets DIR]\n",
                program, program);
   return 2;

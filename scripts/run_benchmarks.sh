@@ -42,6 +42,7 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
   echo
   echo "- *mvox, in memory*: as above (\`mvox_bench_extract_once\`, the fast engine into a sink that"
   echo "  only counts). *mvox, end to end*: the wall time of an \`mvox extract ... -o tmp.ply\` process."
+  echo "  *mvox --method cubes*: mvox's own marching cubes (interpolated vertices), in memory."
   echo "- *VTK*: only \`Update()\` is timed, on a \`vtkImageData\` built beforehand from the numpy"
   echo "  volume; normals, gradients and scalars off; the Sequential SMP backend (one thread; the script"
   echo "  checks that no CPU time was spent outside its main thread). vtkDiscreteFlyingEdges3D gets"
