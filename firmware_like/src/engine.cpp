@@ -345,8 +345,8 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
 }
 
 // The global index of the vertex on cube edge `e` (cube.h) of cube (cx, cy) in the layer between
-// slot `lo` and slot `hi`. Cube cx holds voxel columns cx - 1 and cx, that is padded columns cx
-// and cx + 1; cube cy holds rows cy - 1 and cy.
+// slot `lo` and slot `hi`, by a rank query on the edge planes. Cube cx holds voxel columns
+// cx - 1 and cx, that is padded columns cx and cx + 1; cube cy holds rows cy - 1 and cy.
 inline std::uint32_t cube_edge_index(const EngineState& st, int lo, int hi, int e, std::uint32_t cx,
                                      std::uint32_t cy) {
   switch (e) {
@@ -400,14 +400,17 @@ inline Vertex cube_edge_vertex(int e, float x0, float y0, float z0, unsigned con
   return v;
 }
 
-bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uint32_t cy,
-               std::uint32_t z, unsigned config, const CubePolygons& polygons, Emitter& emitter) {
+// The polygons of cube (cx, cy) between slices z - 1 and z, whose configuration is `config`;
+// `edge_index[e]` is the global index of the vertex on cube edge e, for every edge the
+// configuration cuts.
+bool emit_cube(std::uint32_t cx, std::uint32_t cy, std::uint32_t z, unsigned config,
+               const CubePolygons& polygons, const std::uint32_t* edge_index, Emitter& emitter) {
   int offset = 0;
   for (int p = 0; p < polygons.polygon_count; ++p) {
     Polygon& out = emitter.next_polygon();
     out.vertex_count = polygons.polygon_sizes[p];
     for (int i = 0; i < out.vertex_count; ++i)
-      out.vertices[i] = cube_edge_index(st, lo, hi, polygons.edges[offset + i], cx, cy);
+      out.vertices[i] = edge_index[polygons.edges[offset + i]];
     if (PolygonGeometry* geometry = emitter.next_geometry()) {
       // Cube cx holds voxel columns cx - 1 and cx; likewise rows and slices.
       const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
@@ -422,10 +425,41 @@ bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uin
   return true;
 }
 
-// PASS 3, fast: visits only cubes whose eight voxels are not all alike (computational trimming
-// after Flying Edges), a word of 64 cubes at a time, and looks each configuration up.
-bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
-                     Emitter& emitter) {
+struct CutEdgeTable {
+  std::uint16_t edges[256];
+};
+
+constexpr CutEdgeTable build_cut_edge_table() {
+  CutEdgeTable table{};
+  for (unsigned config = 0; config < 256; ++config) table.edges[config] = cube::cut_edges(config);
+  return table;
+}
+
+constexpr CutEdgeTable kCutEdges = build_cut_edge_table();
+
+// PASS 3's walk over the cubes of the layer between slot `lo` and slot `hi`, row by row, in
+// increasing x. It visits only cubes whose eight voxels are not all alike (computational
+// trimming after Flying Edges), a word of 64 cubes at a time, and calls
+// `action(cx, cy, config, edge_index)` for each; `edge_index[e]` is the global index of the
+// vertex on cube edge e (cube.h) for every edge that `config` cuts. Stops when `action` returns
+// false.
+//
+// The indices come without a rank query. Each cube edge e reads one stream of PASS 2's vertices:
+// edge 0 of cube (cx, cy) is the x-edge at column cx of row cy - 1 of the lower slice, edge 5
+// the y-edge at column cx + 1 of row cy, and so on (cube_edge_index). As the walk goes through
+// the cubes in order, each stream goes through its plane's rows in PASS 2's order, and every
+// vertex in it belongs to a cube that cuts e, which is active and visited. So the vertex of a
+// cube's edge e is the next one of stream e: a running count, advanced past each cube's cut
+// edges. (Columns the walk skips, 0 of y- and z-edges, and row -1, hold no vertex.)
+template <typename CubeAction>
+bool for_each_active_cube(const EngineState& st, int lo, int hi, std::uint32_t height,
+                          CubeAction&& action) {
+  std::uint32_t next[cube::kEdges];
+  for (int e = 0; e < 4; ++e) {
+    next[e] = st.x_edges[e < 2 ? lo : hi].base;
+    next[4 + e] = st.y_edges[e < 2 ? lo : hi].base;
+    next[8 + e] = st.z_edges.base;
+  }
   const std::uint32_t words = st.row_words;
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
     const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);  // corners by=0, bz=0
@@ -446,13 +480,24 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std
                                                       (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
                                                       (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 |
                                                       (d0 >> bit & 1) << 6 | (d1 >> bit & 1) << 7);
-        if (!emit_cube(st, lo, hi, w * 64 + static_cast<std::uint32_t>(bit), cy, z, config,
-                       st.table->cases[config], emitter))
-          return false;
+        const std::uint32_t cx = w * 64 + static_cast<std::uint32_t>(bit);
+        if (!action(cx, cy, config, static_cast<const std::uint32_t*>(next))) return false;
+        const unsigned cut = kCutEdges.edges[config];
+        for (int e = 0; e < cube::kEdges; ++e) next[e] += cut >> e & 1;
       }
     }
   }
   return true;
+}
+
+// PASS 3, fast: each active cube's configuration looked up in the case table.
+bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
+                     Emitter& emitter) {
+  return for_each_active_cube(
+      st, lo, hi, height,
+      [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
+        return emit_cube(cx, cy, z, config, st.table->cases[config], edge_index, emitter);
+      });
 }
 
 // PASS 3, literal: the merged segments of each completed cube, walked into loops.
@@ -473,7 +518,12 @@ bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t z, 
                               test_bit(r3, cx + 1) << 7;
       if (st.options.rule == SurfaceRule::paper_table1 && paper_table1_applies(config))
         polygons = reversed(merge_passes(~config & 0xFFu));
-      if (!emit_cube(st, lo, hi, cx, cy, z, config, polygons, emitter)) return false;
+      std::uint32_t edge_index[cube::kEdges] = {};
+      for (unsigned cut = cube::cut_edges(config); cut; cut &= cut - 1) {
+        const int e = lowest_set_bit(cut);
+        edge_index[e] = cube_edge_index(st, lo, hi, e, cx, cy);
+      }
+      if (!emit_cube(cx, cy, z, config, polygons, edge_index, emitter)) return false;
     }
   }
   return true;
