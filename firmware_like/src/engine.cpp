@@ -67,10 +67,8 @@ struct detail::EngineState {
   EdgePlane y_edges[2];  // y-edges of the slice in each slot (height + 1 rows)
   EdgePlane z_edges;     // z-edges between the two slots' slices
   Vertex* vertex_batch = nullptr;
-  std::uint32_t vertex_fill = 0;
   Polygon* polygon_batch = nullptr;
   PolygonGeometry* geometry_batch = nullptr;  // parallel to polygon_batch; null unless asked for
-  std::uint32_t polygon_fill = 0;
   LiteralLayers literal;
 
   const std::uint64_t* row(int slot, std::int64_t y, std::uint32_t height) const {
@@ -199,49 +197,71 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
 
 namespace {
 
+// Batches one layer's vertices and polygons for the sink. The batch fills and the layer's counts
+// live in the emitter, not in the engine state: the emitter is a local whose address never
+// escapes, so the compiler keeps them in registers through the hot loops (through the state they
+// would be reloaded after every store into a batch, which might alias them). Both batches are
+// empty between layers, and the counts reach the engine's counters however the layer ends.
 class Emitter {
  public:
-  Emitter(EngineState& state, EngineCounters& counters) : state_(state), counters_(counters) {}
+  Emitter(EngineState& state, EngineCounters& counters)
+      : state_(state),
+        counters_(counters),
+        vertices_(state.vertex_batch),
+        vertex_capacity_(state.options.vertices_per_batch),
+        vertex_count_(counters.vertices),
+        polygons_(state.polygon_batch),
+        geometry_(state.geometry_batch),
+        polygon_capacity_(state.options.polygons_per_batch) {}
 
-  // Returns false when the sink refused or the index space is exhausted; status() says which.
+  Emitter(const Emitter&) = delete;
+  Emitter& operator=(const Emitter&) = delete;
+
+  ~Emitter() {
+    counters_.vertices = vertex_count_;
+    for (int size = 0; size <= kMaxPolygonVertices; ++size) {
+      counters_.polygons += polygons_by_size_[size];
+      counters_.polygons_by_size[size] += polygons_by_size_[size];
+    }
+  }
+
+  // The one place a vertex is produced. Returns false when the sink refused or the index space
+  // is exhausted; status() says which.
   bool vertex(float x, float y, float z, Axis axis, bool inner_is_lower) {
-    if (counters_.vertices >= kMaxVertexCount) return stop(Status::vertex_index_overflow);
-    Vertex& v = state_.vertex_batch[state_.vertex_fill++];
+    if (vertex_count_ >= kMaxVertexCount) return stop(Status::vertex_index_overflow);
+    Vertex& v = vertices_[vertex_fill_++];
     v.x = x;
     v.y = y;
     v.z = z;
     v.axis = axis;
     v.inner_is_lower = inner_is_lower;
-    ++counters_.vertices;
-    return state_.vertex_fill < state_.options.vertices_per_batch || flush_vertices();
+    ++vertex_count_;
+    return vertex_fill_ < vertex_capacity_ || flush_vertices();
   }
 
-  Polygon& next_polygon() { return state_.polygon_batch[state_.polygon_fill]; }
+  Polygon& next_polygon() { return polygons_[polygon_fill_]; }
   // Null unless the options ask for polygons by value.
-  PolygonGeometry* next_geometry() {
-    return state_.geometry_batch ? &state_.geometry_batch[state_.polygon_fill] : nullptr;
-  }
+  PolygonGeometry* next_geometry() { return geometry_ ? &geometry_[polygon_fill_] : nullptr; }
 
   bool commit_polygon() {
-    const Polygon& p = state_.polygon_batch[state_.polygon_fill++];
-    ++counters_.polygons;
-    ++counters_.polygons_by_size[p.vertex_count];
-    return state_.polygon_fill < state_.options.polygons_per_batch || flush_polygons();
+    const Polygon& p = polygons_[polygon_fill_++];
+    ++polygons_by_size_[p.vertex_count];
+    return polygon_fill_ < polygon_capacity_ || flush_polygons();
   }
 
   bool flush_vertices() {
-    if (state_.vertex_fill == 0) return true;
-    const Status s = state_.sink->consume_vertices(state_.vertex_batch, state_.vertex_fill);
-    state_.vertex_fill = 0;
+    if (vertex_fill_ == 0) return true;
+    const Status s = state_.sink->consume_vertices(vertices_, vertex_fill_);
+    vertex_fill_ = 0;
     return s == Status::ok || stop(Status::sink_refused);
   }
 
   bool flush_polygons() {
-    if (state_.polygon_fill == 0) return true;
-    Status s = state_.sink->consume_polygons(state_.polygon_batch, state_.polygon_fill);
-    if (s == Status::ok && state_.geometry_batch)
-      s = state_.sink->consume_polygon_geometry(state_.geometry_batch, state_.polygon_fill);
-    state_.polygon_fill = 0;
+    if (polygon_fill_ == 0) return true;
+    Status s = state_.sink->consume_polygons(polygons_, polygon_fill_);
+    if (s == Status::ok && geometry_)
+      s = state_.sink->consume_polygon_geometry(geometry_, polygon_fill_);
+    polygon_fill_ = 0;
     return s == Status::ok || stop(Status::sink_refused);
   }
 
@@ -256,6 +276,15 @@ class Emitter {
   EngineState& state_;
   EngineCounters& counters_;
   Status status_ = Status::ok;
+  Vertex* const vertices_;
+  const std::uint32_t vertex_capacity_;
+  std::uint32_t vertex_fill_ = 0;
+  std::uint64_t vertex_count_;  // all vertices so far, this layer's included
+  Polygon* const polygons_;
+  PolygonGeometry* const geometry_;
+  const std::uint32_t polygon_capacity_;
+  std::uint32_t polygon_fill_ = 0;
+  std::uint64_t polygons_by_size_[kMaxPolygonVertices + 1] = {};  // this layer's
 };
 
 // PASS 2 for one plane: each row's edge bits come from `edge_word(row, w)`; every set bit becomes
