@@ -525,13 +525,25 @@ bool for_each_active_cube(const EngineState& st, int lo, int hi, std::uint32_t h
   return true;
 }
 
-// PASS 3, fast: each active cube's configuration looked up in the case table.
+// PASS 3, fast: each active cube's configuration looked up in the case table, its polygons
+// copied from the case's fixed-size records.
 bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
                      Emitter& emitter) {
   return for_each_active_cube(
       st, lo, hi, height,
       [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
-        return emit_cube(cx, cy, z, config, st.table->cases[config], edge_index, emitter);
+        if (emitter.next_geometry())  // polygons by value too: the general path
+          return emit_cube(cx, cy, z, config, st.table->cases[config], edge_index, emitter);
+        const CaseRecords& records = st.table->records[config];
+        for (int p = 0; p < records.polygon_count; ++p) {
+          const PolygonRecord& record = records.polygons[p];
+          Polygon& out = emitter.next_polygon();
+          out.vertex_count = record.vertex_count;
+          for (int i = 0; i < kMaxPolygonVertices; ++i)
+            out.vertices[i] = edge_index[record.edges[i]];
+          if (!emitter.commit_polygon()) return false;
+        }
+        return true;
       });
 }
 
