@@ -287,23 +287,47 @@ class Emitter {
   std::uint64_t polygons_by_size_[kMaxPolygonVertices + 1] = {};  // this layer's
 };
 
-// PASS 2 for one plane: each row's edge bits come from `edge_word(row, w)`; every set bit becomes
-// a vertex placed by `emit(row, j, emitter)`. Fills the plane's bits and prefix counts.
-template <typename EdgeWord, typename EmitVertex>
-bool build_plane(EdgePlane& plane, std::uint32_t first_index, EdgeWord edge_word, EmitVertex emit,
-                 Emitter& emitter) {
+// One family of parallel edges as PASS 2 walks it. Row r of the plane joins bit row `lower` (the
+// voxels with the smaller coordinate along `axis`) and bit row `upper`; the edge at column j
+// carries a vertex where they differ, at (j + dx, r + dy, z + dz) in voxel units.
+struct PlaneGeometry {
+  Axis axis;
+  float dx, dy, dz;
+};
+
+struct EdgeRows {
+  const std::uint64_t* lower;
+  const std::uint64_t* upper;  // for x-edges the same row as `lower`, read one column on
+};
+
+// PASS 2 for one plane: a vertex for every edge whose two voxels differ, row by row in increasing
+// column, numbered from `first_index`. `rows_of(r)` gives the plane's row r as EdgeRows. Fills
+// the plane's bits and prefix counts when it has them (the literal engine's rank queries).
+template <bool kUpperIsNextColumn, typename RowsOf>
+bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
+                 const PlaneGeometry& geometry, float z, Emitter& emitter) {
   plane.base = first_index;
+  const std::uint32_t words = plane.row_words;
+  const float vertex_z = z + geometry.dz;
   std::uint32_t count = 0;
-  for (std::uint32_t row = 0; row < plane.rows; ++row) {
-    for (std::uint32_t w = 0; w < plane.row_words; ++w) {
-      const std::uint32_t at = row * plane.row_words + w;
-      std::uint64_t bits = edge_word(row, w);
-      plane.bits[at] = bits;
-      plane.prefix[at] = count;
-      count += static_cast<std::uint32_t>(set_bit_count(bits));
-      for (; bits; bits &= bits - 1)
-        if (!emit(row, w * 64 + static_cast<std::uint32_t>(lowest_set_bit(bits)), emitter))
-          return false;
+  for (std::uint32_t r = 0; r < plane.rows; ++r) {
+    const EdgeRows rows = rows_of(r);
+    const float y = static_cast<float>(r) + geometry.dy;
+    for (std::uint32_t w = 0; w < words; ++w) {
+      const std::uint64_t lower = rows.lower[w];
+      const std::uint64_t upper =
+          kUpperIsNextColumn ? shifted_down(rows.upper, w, words) : rows.upper[w];
+      std::uint64_t edges = lower ^ upper;
+      if (plane.bits) {
+        plane.bits[r * words + w] = edges;
+        plane.prefix[r * words + w] = count;
+      }
+      for (; edges; edges &= edges - 1) {
+        const int bit = lowest_set_bit(edges);
+        const float x = static_cast<float>(w * 64 + static_cast<std::uint32_t>(bit)) + geometry.dx;
+        if (!emitter.vertex(x, y, vertex_z, geometry.axis, (lower >> bit & 1) != 0)) return false;
+        ++count;
+      }
     }
   }
   plane.count = count;
@@ -328,49 +352,37 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
   std::uint32_t next_index = static_cast<std::uint32_t>(first_index);
 
   if (with_slice_edges) {
-    // x-edge j joins voxels j - 1 and j: bit j of (row XOR row shifted down by one).
+    // x-edge j joins padded columns j and j + 1, voxels x = j - 1 and x = j.
     EdgePlane& xp = st.x_edges[slot];
-    if (!build_plane(
+    if (!build_plane<true>(
             xp, next_index,
-            [&](std::uint32_t y, std::uint32_t w) {
-              const std::uint64_t* r = rows + std::size_t{y} * words;
-              return r[w] ^ shifted_down(r, w, words);
+            [&](std::uint32_t y) {
+              const std::uint64_t* row = rows + std::size_t{y} * words;
+              return EdgeRows{row, row};
             },
-            [&](std::uint32_t y, std::uint32_t j, Emitter& e) {
-              return e.vertex(static_cast<float>(j) - 0.5f, static_cast<float>(y), fz, Axis::x,
-                              test_bit(rows + std::size_t{y} * words, j));
-            },
-            emitter))
+            PlaneGeometry{Axis::x, -0.5f, 0.0f, 0.0f}, fz, emitter))
       return false;
     next_index += xp.count;
 
     // y-edge row r joins voxel rows r - 1 and r (r = 0 and r = height meet the outside).
     EdgePlane& yp = st.y_edges[slot];
-    if (!build_plane(
+    if (!build_plane<false>(
             yp, next_index,
-            [&](std::uint32_t r, std::uint32_t w) {
-              return st.row(slot, std::int64_t{r} - 1, height)[w] ^ st.row(slot, r, height)[w];
+            [&](std::uint32_t r) {
+              return EdgeRows{st.row(slot, std::int64_t{r} - 1, height), st.row(slot, r, height)};
             },
-            [&](std::uint32_t r, std::uint32_t j, Emitter& e) {
-              return e.vertex(static_cast<float>(j) - 1.0f, static_cast<float>(r) - 0.5f, fz,
-                              Axis::y, test_bit(st.row(slot, std::int64_t{r} - 1, height), j));
-            },
-            emitter))
+            PlaneGeometry{Axis::y, -1.0f, -0.5f, 0.0f}, fz, emitter))
       return false;
     next_index += yp.count;
   }
 
   // z-edges between slice z - 1 (other slot) and slice z.
-  return build_plane(
+  return build_plane<false>(
       st.z_edges, next_index,
-      [&](std::uint32_t y, std::uint32_t w) {
-        return below[std::size_t{y} * words + w] ^ rows[std::size_t{y} * words + w];
+      [&](std::uint32_t y) {
+        return EdgeRows{below + std::size_t{y} * words, rows + std::size_t{y} * words};
       },
-      [&](std::uint32_t y, std::uint32_t j, Emitter& e) {
-        return e.vertex(static_cast<float>(j) - 1.0f, static_cast<float>(y), fz - 0.5f, Axis::z,
-                        test_bit(below + std::size_t{y} * words, j));
-      },
-      emitter);
+      PlaneGeometry{Axis::z, -1.0f, 0.0f, -0.5f}, fz, emitter);
 }
 
 // The global index of the vertex on cube edge `e` (cube.h) of cube (cx, cy) in the layer between
