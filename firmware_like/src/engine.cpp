@@ -4,6 +4,8 @@
 //           s-1 and s, number them in that order and send them to the sink (edge_plane.h);
 //   PASS 3  find the polygons of every cube between slices s-1 and s, which that slice
 //           completes, and send them: by table lookup (fast) or from the literal merge passes.
+//           The fast engine walks the cubes in the order PASS 2 numbered the vertices, so it
+//           knows each vertex's index by running counts; the literal engine asks the edge planes.
 // Slices -1 and D (one past the last) are all outer, so every surface closes.
 #include "mvox/engine.h"
 
@@ -95,16 +97,19 @@ bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptio
   auto words_bytes = [words](std::uint64_t rows) { return rows * words * sizeof(std::uint64_t); };
   auto prefix_bytes = [words](std::uint64_t rows) { return rows * words * sizeof(std::uint32_t); };
   layout->state = take(sizeof(EngineState));
-  for (int slot = 0; slot < 2; ++slot) {
-    layout->inner[slot] = take(words_bytes(height));
-    layout->x_bits[slot] = take(words_bytes(height));
-    layout->x_prefix[slot] = take(prefix_bytes(height));
-    layout->y_bits[slot] = take(words_bytes(std::uint64_t{height} + 1));
-    layout->y_prefix[slot] = take(prefix_bytes(std::uint64_t{height} + 1));
-  }
+  for (int slot = 0; slot < 2; ++slot) layout->inner[slot] = take(words_bytes(height));
   layout->zero_row = take(words_bytes(1));
-  layout->z_bits = take(words_bytes(height));
-  layout->z_prefix = take(prefix_bytes(height));
+  // The edge planes' bits and prefix counts serve only the literal engine's rank queries
+  // (cube_edge_index); the fast engine numbers vertices by running counts (for_each_active_cube).
+  const bool planes = options.kind == EngineKind::literal;
+  for (int slot = 0; slot < 2; ++slot) {
+    layout->x_bits[slot] = take(planes ? words_bytes(height) : 0);
+    layout->x_prefix[slot] = take(planes ? prefix_bytes(height) : 0);
+    layout->y_bits[slot] = take(planes ? words_bytes(std::uint64_t{height} + 1) : 0);
+    layout->y_prefix[slot] = take(planes ? prefix_bytes(std::uint64_t{height} + 1) : 0);
+  }
+  layout->z_bits = take(planes ? words_bytes(height) : 0);
+  layout->z_prefix = take(planes ? prefix_bytes(height) : 0);
   layout->vertices = take(std::uint64_t{options.vertices_per_batch} * sizeof(Vertex));
   layout->polygons = take(std::uint64_t{options.polygons_per_batch} * sizeof(Polygon));
   layout->geometry = take(options.polygon_geometry
@@ -152,27 +157,23 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   state->table = &case_table(options.rule);
   state->row_words = padded_row_words(width);
   const std::uint32_t words = state->row_words;
+  // Only the literal engine stores the planes' bits and prefix counts (compute_layout).
+  auto plane = [&](std::size_t bits, std::size_t prefix, std::uint32_t rows) {
+    EdgePlane result;
+    if (options.kind == EngineKind::literal) {
+      result.bits = reinterpret_cast<std::uint64_t*>(base + bits);
+      result.prefix = reinterpret_cast<std::uint32_t*>(base + prefix);
+    }
+    result.rows = rows;
+    result.row_words = words;
+    return result;
+  };
   for (int slot = 0; slot < 2; ++slot) {
     state->inner[slot] = reinterpret_cast<std::uint64_t*>(base + layout.inner[slot]);
-    state->x_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.x_bits[slot]),
-                            reinterpret_cast<std::uint32_t*>(base + layout.x_prefix[slot]),
-                            height,
-                            words,
-                            0,
-                            0};
-    state->y_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.y_bits[slot]),
-                            reinterpret_cast<std::uint32_t*>(base + layout.y_prefix[slot]),
-                            height + 1,
-                            words,
-                            0,
-                            0};
+    state->x_edges[slot] = plane(layout.x_bits[slot], layout.x_prefix[slot], height);
+    state->y_edges[slot] = plane(layout.y_bits[slot], layout.y_prefix[slot], height + 1);
   }
-  state->z_edges = {reinterpret_cast<std::uint64_t*>(base + layout.z_bits),
-                    reinterpret_cast<std::uint32_t*>(base + layout.z_prefix),
-                    height,
-                    words,
-                    0,
-                    0};
+  state->z_edges = plane(layout.z_bits, layout.z_prefix, height);
   std::uint64_t* zero_row = reinterpret_cast<std::uint64_t*>(base + layout.zero_row);
   std::memset(zero_row, 0, words * sizeof(std::uint64_t));
   state->zero_row = zero_row;
