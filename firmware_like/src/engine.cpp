@@ -19,6 +19,7 @@
 #include "cube.h"
 #include "edge_plane.h"
 #include "literal_layers.h"
+#include "word_configs.h"
 
 namespace mvox {
 
@@ -522,12 +523,12 @@ bool for_each_active_cube(const EngineState& st, int lo, int hi, std::uint32_t h
       const std::uint64_t d0 = r3[w], d1 = shifted_down(r3, w, words);
       const std::uint64_t any = a0 | a1 | b0 | b1 | c0 | c1 | d0 | d1;
       const std::uint64_t all = a0 & a1 & b0 & b1 & c0 & c1 & d0 & d1;
-      for (std::uint64_t active = any & ~all; active; active &= active - 1) {
+      std::uint64_t active = any & ~all;
+      if (!active) continue;
+      const WordConfigs configs({a0, a1, b0, b1, c0, c1, d0, d1});  // in cube.h's corner order
+      for (; active; active &= active - 1) {
         const int bit = lowest_set_bit(active);
-        const unsigned config = static_cast<unsigned>((a0 >> bit & 1) | (a1 >> bit & 1) << 1 |
-                                                      (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
-                                                      (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 |
-                                                      (d0 >> bit & 1) << 6 | (d1 >> bit & 1) << 7);
+        const unsigned config = configs[bit];
         const std::uint32_t cx = w * 64 + static_cast<std::uint32_t>(bit);
         if (!action(cx, cy, config, static_cast<const std::uint32_t*>(next))) return false;
         const std::uint32_t* advance = kStreamAdvance.advance[config];
