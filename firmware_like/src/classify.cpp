@@ -63,9 +63,32 @@ std::uint64_t inner_mask_scalar(const unsigned char* samples, std::uint32_t n,
 
 #if defined(__SSE2__)
 // SSE2 is part of the x86-64 baseline, so these need no runtime check. Each compares 16 lanes at
-// a time and gathers the lanes' sign bits with movemask. Only valid for thresholds inside the
-// sample type's range (in_simd_range); the scalar loop handles the rest.
-inline std::uint64_t lanes_to_bits(__m128i inner_lanes, int chunk) {
+// a time, gathers the lanes' sign bits with movemask and counts the inner lanes in `counts`.
+// Only valid for thresholds inside the sample type's range (in_simd_range); the scalar loop
+// handles the rest.
+
+// Counts inner lanes without a popcount per word (x86-64 baseline has no POPCNT instruction):
+// each byte of a compare result is 0 or -1 and is subtracted into 16 byte counters, which are
+// summed (psadbw) before they can wrap: at most 4 per chunk of 64 samples.
+class LaneCounts {
+ public:
+  static constexpr int kChunksBeforeWrap = 255 / 4;
+
+  void add(__m128i inner_lanes) { bytes_ = _mm_sub_epi8(bytes_, inner_lanes); }
+
+  std::uint64_t drain() {
+    const __m128i sums = _mm_sad_epu8(bytes_, _mm_setzero_si128());
+    bytes_ = _mm_setzero_si128();
+    return static_cast<std::uint64_t>(_mm_cvtsi128_si32(sums)) +
+           static_cast<std::uint64_t>(_mm_cvtsi128_si32(_mm_srli_si128(sums, 8)));
+  }
+
+ private:
+  __m128i bytes_ = _mm_setzero_si128();
+};
+
+inline std::uint64_t lanes_to_bits(__m128i inner_lanes, int chunk, LaneCounts& counts) {
+  counts.add(inner_lanes);
   return static_cast<std::uint64_t>(static_cast<std::uint16_t>(_mm_movemask_epi8(inner_lanes)))
          << (16 * chunk);
 }
@@ -75,12 +98,13 @@ inline __m128i load16(const unsigned char* bytes) {
 }
 
 // u8: x >= t exactly when max(x, t) == x (SSE2 has no unsigned byte compare).
-inline std::uint64_t inner_mask_u8(const unsigned char* samples, std::int32_t threshold) {
+inline std::uint64_t inner_mask_u8(const unsigned char* samples, std::int32_t threshold,
+                                   LaneCounts& counts) {
   const __m128i t = _mm_set1_epi8(static_cast<char>(threshold));
   std::uint64_t mask = 0;
   for (int c = 0; c < 4; ++c) {
     const __m128i x = load16(samples + 16 * c);
-    mask |= lanes_to_bits(_mm_cmpeq_epi8(_mm_max_epu8(x, t), x), c);
+    mask |= lanes_to_bits(_mm_cmpeq_epi8(_mm_max_epu8(x, t), x), c, counts);
   }
   return mask;
 }
@@ -88,7 +112,8 @@ inline std::uint64_t inner_mask_u8(const unsigned char* samples, std::int32_t th
 // 16-bit: x >= t exactly when x > t - 1; unsigned samples are moved into the signed range by
 // flipping their top bit. Two compares are packed (saturating, so -1 stays -1) into 16 bytes.
 template <bool kUnsigned>
-inline std::uint64_t inner_mask_16(const unsigned char* samples, std::int32_t threshold) {
+inline std::uint64_t inner_mask_16(const unsigned char* samples, std::int32_t threshold,
+                                   LaneCounts& counts) {
   const int bias = kUnsigned ? 0x8000 : 0;
   const __m128i flip = _mm_set1_epi16(static_cast<short>(bias));
   const __m128i below = _mm_set1_epi16(static_cast<short>(threshold - 1 - bias));
@@ -96,15 +121,16 @@ inline std::uint64_t inner_mask_16(const unsigned char* samples, std::int32_t th
   for (int c = 0; c < 4; ++c) {
     const __m128i lo = _mm_xor_si128(load16(samples + 32 * c), flip);
     const __m128i hi = _mm_xor_si128(load16(samples + 32 * c + 16), flip);
-    mask |=
-        lanes_to_bits(_mm_packs_epi16(_mm_cmpgt_epi16(lo, below), _mm_cmpgt_epi16(hi, below)), c);
+    mask |= lanes_to_bits(_mm_packs_epi16(_mm_cmpgt_epi16(lo, below), _mm_cmpgt_epi16(hi, below)),
+                          c, counts);
   }
   return mask;
 }
 
 // f32: an ordered compare, so NaN is never inner, as in the scalar loop. Four compares of four
 // lanes are packed into 16 bytes.
-inline std::uint64_t inner_mask_f32(const unsigned char* samples, float threshold) {
+inline std::uint64_t inner_mask_f32(const unsigned char* samples, float threshold,
+                                    LaneCounts& counts) {
   const __m128 t = _mm_set1_ps(threshold);
   auto compare = [&](const unsigned char* at) {
     return _mm_castps_si128(_mm_cmpge_ps(_mm_loadu_ps(reinterpret_cast<const float*>(at)), t));
@@ -114,19 +140,21 @@ inline std::uint64_t inner_mask_f32(const unsigned char* samples, float threshol
     const unsigned char* at = samples + 64 * c;
     const __m128i lo = _mm_packs_epi32(compare(at), compare(at + 16));
     const __m128i hi = _mm_packs_epi32(compare(at + 32), compare(at + 48));
-    mask |= lanes_to_bits(_mm_packs_epi16(lo, hi), c);
+    mask |= lanes_to_bits(_mm_packs_epi16(lo, hi), c, counts);
   }
   return mask;
 }
 
 template <typename Sample, typename Threshold>
-std::uint64_t inner_mask_sse2(const unsigned char* samples, Threshold threshold) {
-  if constexpr (std::is_same_v<Sample, std::uint8_t>) return inner_mask_u8(samples, threshold);
+std::uint64_t inner_mask_sse2(const unsigned char* samples, Threshold threshold,
+                              LaneCounts& counts) {
+  if constexpr (std::is_same_v<Sample, std::uint8_t>)
+    return inner_mask_u8(samples, threshold, counts);
   if constexpr (std::is_same_v<Sample, std::uint16_t>)
-    return inner_mask_16<true>(samples, threshold);
+    return inner_mask_16<true>(samples, threshold, counts);
   if constexpr (std::is_same_v<Sample, std::int16_t>)
-    return inner_mask_16<false>(samples, threshold);
-  if constexpr (std::is_same_v<Sample, float>) return inner_mask_f32(samples, threshold);
+    return inner_mask_16<false>(samples, threshold, counts);
+  if constexpr (std::is_same_v<Sample, float>) return inner_mask_f32(samples, threshold, counts);
 }
 #endif
 
@@ -143,29 +171,44 @@ bool in_simd_range(Threshold threshold) {
 }
 
 // Builds each 64-voxel word as a whole and stores it shifted by one: voxel x lands on bit x + 1
-// (bit_rows.h).
+// (bit_rows.h); bit 63 of a chunk carries into the next word. Returns the row's inner voxels.
 template <typename Sample, typename Threshold>
 std::uint64_t classify_row(const unsigned char* samples, std::uint32_t width, Threshold threshold,
                            bool simd, std::uint64_t* row, std::uint32_t row_words) {
-  std::memset(row, 0, row_words * sizeof(std::uint64_t));
   std::uint64_t inner = 0;
-  for (std::uint32_t x0 = 0; x0 < width; x0 += 64) {
+#if defined(__SSE2__)
+  LaneCounts counts;
+  int counted_chunks = 0;
+#else
+  (void)simd;
+#endif
+  std::uint64_t carry = 0;
+  std::uint32_t w = 0;
+  for (std::uint32_t x0 = 0; x0 < width; x0 += 64, ++w) {
     const std::uint32_t n = width - x0 < 64 ? width - x0 : 64;
     const unsigned char* chunk = samples + std::size_t{x0} * sizeof(Sample);
     std::uint64_t mask;
 #if defined(__SSE2__)
-    if (simd && n == 64)
-      mask = inner_mask_sse2<Sample>(chunk, threshold);
-    else
-#else
-    (void)simd;
+    if (simd && n == 64) {
+      mask = inner_mask_sse2<Sample>(chunk, threshold, counts);
+      if (++counted_chunks == LaneCounts::kChunksBeforeWrap) {
+        inner += counts.drain();
+        counted_chunks = 0;
+      }
+    } else
 #endif
+    {
       mask = inner_mask_scalar<Sample>(chunk, n, threshold);
-    inner += static_cast<std::uint64_t>(set_bit_count(mask));
-    const std::uint32_t w = x0 >> 6;
-    row[w] |= mask << 1;
-    if (w + 1 < row_words) row[w + 1] |= mask >> 63;
+      inner += static_cast<std::uint64_t>(set_bit_count(mask));
+    }
+    row[w] = mask << 1 | carry;
+    carry = mask >> 63;
   }
+  // The padding beyond the last voxel; a carry, when there is one, always has a word to go to.
+  for (; w < row_words; ++w, carry = 0) row[w] = carry;
+#if defined(__SSE2__)
+  inner += counts.drain();
+#endif
   return inner;
 }
 
