@@ -39,10 +39,12 @@ void expect_exact_classification(SampleType type, const std::vector<Sample>& val
     const std::uint32_t words = padded_row_words(width);
     for (double threshold : thresholds) {
       std::vector<std::uint64_t> rows(std::size_t{words} * height, ~std::uint64_t{0});
+      std::vector<std::uint8_t> occupied(height, 2);
       const std::uint64_t inner =
-          classify_slice(slice, make_thresholds(threshold), rows.data(), words);
+          classify_slice(slice, make_thresholds(threshold), rows.data(), words, occupied.data());
       std::uint64_t expected_inner = 0;
-      for (std::uint32_t y = 0; y < height; ++y)
+      for (std::uint32_t y = 0; y < height; ++y) {
+        const std::uint64_t inner_before_row = expected_inner;
         for (std::uint32_t j = 0; j < words * 64; ++j) {
           const bool in_slice = j >= 1 && j <= width;
           const bool expected =
@@ -51,6 +53,9 @@ void expect_exact_classification(SampleType type, const std::vector<Sample>& val
           ASSERT_EQ(test_bit(&rows[std::size_t{y} * words], j), expected)
               << "width " << width << " threshold " << threshold << " row " << y << " bit " << j;
         }
+        EXPECT_EQ(occupied[y], expected_inner > inner_before_row ? 1 : 0)
+            << "width " << width << " threshold " << threshold << " row " << y;
+      }
       EXPECT_EQ(inner, expected_inner) << "width " << width << " threshold " << threshold;
     }
   }

@@ -214,28 +214,33 @@ std::uint64_t classify_row(const unsigned char* samples, std::uint32_t width, Th
 
 template <typename Sample, typename Threshold>
 std::uint64_t classify_rows(const SliceView& slice, Threshold threshold, std::uint64_t* rows,
-                            std::uint32_t row_words) {
+                            std::uint32_t row_words, std::uint8_t* occupied) {
   std::uint64_t inner = 0;
   const auto* bytes = static_cast<const unsigned char*>(slice.samples);
   const bool simd = in_simd_range<Sample>(threshold);
-  for (std::uint32_t y = 0; y < slice.height; ++y)
-    inner += classify_row<Sample>(bytes + y * slice.row_stride_bytes, slice.width, threshold, simd,
-                                  rows + std::size_t{y} * row_words, row_words);
+  for (std::uint32_t y = 0; y < slice.height; ++y) {
+    const std::uint64_t row_inner =
+        classify_row<Sample>(bytes + y * slice.row_stride_bytes, slice.width, threshold, simd,
+                             rows + std::size_t{y} * row_words, row_words);
+    occupied[y] = row_inner != 0;
+    inner += row_inner;
+  }
   return inner;
 }
 
 }  // namespace
 
 std::uint64_t classify_slice(const SliceView& slice, const Thresholds& thresholds,
-                             std::uint64_t* rows, std::uint32_t row_words) {
+                             std::uint64_t* rows, std::uint32_t row_words, std::uint8_t* occupied) {
   switch (slice.type) {
     case SampleType::u8:
-      return classify_rows<std::uint8_t>(slice, thresholds.integer, rows, row_words);
+      return classify_rows<std::uint8_t>(slice, thresholds.integer, rows, row_words, occupied);
     case SampleType::u16:
-      return classify_rows<std::uint16_t>(slice, thresholds.integer, rows, row_words);
+      return classify_rows<std::uint16_t>(slice, thresholds.integer, rows, row_words, occupied);
     case SampleType::i16:
-      return classify_rows<std::int16_t>(slice, thresholds.integer, rows, row_words);
-    case SampleType::f32: return classify_rows<float>(slice, thresholds.real, rows, row_words);
+      return classify_rows<std::int16_t>(slice, thresholds.integer, rows, row_words, occupied);
+    case SampleType::f32:
+      return classify_rows<float>(slice, thresholds.real, rows, row_words, occupied);
   }
   return 0;
 }

@@ -39,6 +39,7 @@ constexpr std::uint64_t align_up(std::uint64_t bytes) {
 struct Layout {
   std::size_t state = 0;
   std::size_t inner[2] = {};
+  std::size_t occupied[2] = {};
   std::size_t zero_row = 0;
   std::size_t x_bits[2] = {}, x_prefix[2] = {};
   std::size_t y_bits[2] = {}, y_prefix[2] = {};
@@ -64,7 +65,8 @@ struct detail::EngineState {
   PolygonSink* sink = nullptr;
   const CaseTable* table = nullptr;
   std::uint32_t row_words = 0;
-  std::uint64_t* inner[2] = {};  // bit rows of slice s in slot s & 1
+  std::uint64_t* inner[2] = {};    // bit rows of slice s in slot s & 1
+  std::uint8_t* occupied[2] = {};  // per bit row of each slot: has it an inner voxel?
   const std::uint64_t* zero_row = nullptr;
   EdgePlane x_edges[2];  // x-edges of the slice in each slot
   EdgePlane y_edges[2];  // y-edges of the slice in each slot (height + 1 rows)
@@ -77,6 +79,10 @@ struct detail::EngineState {
   const std::uint64_t* row(int slot, std::int64_t y, std::uint32_t height) const {
     if (y < 0 || y >= static_cast<std::int64_t>(height)) return zero_row;
     return inner[slot] + static_cast<std::size_t>(y) * row_words;
+  }
+
+  bool row_occupied(int slot, std::int64_t y, std::uint32_t height) const {
+    return y >= 0 && y < static_cast<std::int64_t>(height) && occupied[slot][y];
   }
 };
 
@@ -98,7 +104,10 @@ bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptio
   auto words_bytes = [words](std::uint64_t rows) { return rows * words * sizeof(std::uint64_t); };
   auto prefix_bytes = [words](std::uint64_t rows) { return rows * words * sizeof(std::uint32_t); };
   layout->state = take(sizeof(EngineState));
-  for (int slot = 0; slot < 2; ++slot) layout->inner[slot] = take(words_bytes(height));
+  for (int slot = 0; slot < 2; ++slot) {
+    layout->inner[slot] = take(words_bytes(height));
+    layout->occupied[slot] = take(height);
+  }
   layout->zero_row = take(words_bytes(1));
   // The edge planes' bits and prefix counts serve only the literal engine's rank queries
   // (cube_edge_index); the fast engine numbers vertices by running counts (for_each_active_cube).
@@ -171,6 +180,7 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   };
   for (int slot = 0; slot < 2; ++slot) {
     state->inner[slot] = reinterpret_cast<std::uint64_t*>(base + layout.inner[slot]);
+    state->occupied[slot] = reinterpret_cast<std::uint8_t*>(base + layout.occupied[slot]);
     state->x_edges[slot] = plane(layout.x_bits[slot], layout.x_prefix[slot], height);
     state->y_edges[slot] = plane(layout.y_bits[slot], layout.y_prefix[slot], height + 1);
   }
@@ -180,6 +190,7 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   state->zero_row = zero_row;
   // Slot 1 stands for slice -1 when slice 0 arrives: all outer.
   std::memset(state->inner[1], 0, std::size_t{height} * words * sizeof(std::uint64_t));
+  std::memset(state->occupied[1], 0, height);
   state->vertex_batch = reinterpret_cast<Vertex*>(base + layout.vertices);
   state->polygon_batch = reinterpret_cast<Polygon*>(base + layout.polygons);
   if (options.polygon_geometry)
@@ -300,6 +311,7 @@ struct PlaneGeometry {
 struct EdgeRows {
   const std::uint64_t* lower;
   const std::uint64_t* upper;  // for x-edges the same row as `lower`, read one column on
+  bool occupied;               // false when both rows are all outer: no edge has a vertex
 };
 
 // PASS 2 for one plane: a vertex for every edge whose two voxels differ, row by row in increasing
@@ -314,6 +326,14 @@ bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
   std::uint32_t count = 0;
   for (std::uint32_t r = 0; r < plane.rows; ++r) {
     const EdgeRows rows = rows_of(r);
+    if (!rows.occupied) {  // computational trimming: nothing to read
+      if (plane.bits)
+        for (std::uint32_t w = 0; w < words; ++w) {
+          plane.bits[r * words + w] = 0;
+          plane.prefix[r * words + w] = count;
+        }
+      continue;
+    }
     const float y = static_cast<float>(r) + geometry.dy;
     for (std::uint32_t w = 0; w < words; ++w) {
       const std::uint64_t lower = rows.lower[w];
@@ -360,7 +380,7 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
             xp, next_index,
             [&](std::uint32_t y) {
               const std::uint64_t* row = rows + std::size_t{y} * words;
-              return EdgeRows{row, row};
+              return EdgeRows{row, row, st.occupied[slot][y] != 0};
             },
             PlaneGeometry{Axis::x, -0.5f, 0.0f, 0.0f}, fz, emitter))
       return false;
@@ -371,7 +391,9 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
     if (!build_plane<false>(
             yp, next_index,
             [&](std::uint32_t r) {
-              return EdgeRows{st.row(slot, std::int64_t{r} - 1, height), st.row(slot, r, height)};
+              return EdgeRows{st.row(slot, std::int64_t{r} - 1, height), st.row(slot, r, height),
+                              st.row_occupied(slot, std::int64_t{r} - 1, height) ||
+                                  st.row_occupied(slot, r, height)};
             },
             PlaneGeometry{Axis::y, -1.0f, -0.5f, 0.0f}, fz, emitter))
       return false;
@@ -382,7 +404,8 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
   return build_plane<false>(
       st.z_edges, next_index,
       [&](std::uint32_t y) {
-        return EdgeRows{below + std::size_t{y} * words, rows + std::size_t{y} * words};
+        return EdgeRows{below + std::size_t{y} * words, rows + std::size_t{y} * words,
+                        st.occupied[slot ^ 1][y] || st.occupied[slot][y]};
       },
       PlaneGeometry{Axis::z, -1.0f, 0.0f, -0.5f}, fz, emitter);
 }
@@ -511,6 +534,11 @@ bool for_each_active_cube(const EngineState& st, int lo, int hi, std::uint32_t h
   }
   const std::uint32_t words = st.row_words;
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
+    // Computational trimming: four all-outer rows hold no active cube and no vertex, so every
+    // stream stays where it is.
+    if (!st.row_occupied(lo, std::int64_t{cy} - 1, height) && !st.row_occupied(lo, cy, height) &&
+        !st.row_occupied(hi, std::int64_t{cy} - 1, height) && !st.row_occupied(hi, cy, height))
+      continue;
     const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);  // corners by=0, bz=0
     const std::uint64_t* r1 = st.row(lo, cy, height);                    // by=1, bz=0
     const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);  // by=0, bz=1
@@ -620,7 +648,8 @@ Status Engine::push_slice(const SliceView& slice) {
   EngineState& st = *state_;
   const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
-  counters_.inner_voxels += classify_slice(slice, st.thresholds, st.inner[hi], st.row_words);
+  counters_.inner_voxels +=
+      classify_slice(slice, st.thresholds, st.inner[hi], st.row_words, st.occupied[hi]);
   if (st.options.kind == EngineKind::literal)
     st.literal.add_slice(st.inner[lo], st.inner[hi], st.row_words);
 
@@ -638,6 +667,7 @@ Status Engine::finish() {
     const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
     const int hi = static_cast<int>(z & 1);
     std::memset(st.inner[hi], 0, std::size_t{height_} * st.row_words * sizeof(std::uint64_t));
+    std::memset(st.occupied[hi], 0, height_);
     if (const Status status = emit_layer(st, z, false); status != Status::ok) return fail(status);
   }
   failure_ = Status::already_finished;
