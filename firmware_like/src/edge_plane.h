@@ -4,7 +4,7 @@
 // bit per edge plus, per 64-bit word, the number of set bits before it. A vertex's global index
 // is then a rank query: base + prefix + popcount, so the literal engine never stores an index per
 // voxel (about 0.19 bytes per edge instead of 4). The fast engine needs neither: it numbers
-// vertices by running counts in PASS 3's walk (engine.cpp, for_each_active_cube).
+// vertices by running counts in PASS 3's walk (engine.cpp, for_each_surface_cube).
 #include <cstdint>
 
 #include "bit_rows.h"

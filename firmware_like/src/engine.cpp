@@ -110,7 +110,7 @@ bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptio
   }
   layout->zero_row = take(words_bytes(1));
   // The edge planes' bits and prefix counts serve only the literal engine's rank queries
-  // (cube_edge_index); the fast engine numbers vertices by running counts (for_each_active_cube).
+  // (cube_edge_index); the fast engine numbers vertices by running counts (for_each_surface_cube).
   const bool planes = options.kind == EngineKind::literal;
   for (int slot = 0; slot < 2; ++slot) {
     layout->x_bits[slot] = take(planes ? words_bytes(height) : 0);
@@ -491,7 +491,7 @@ bool emit_cube(std::uint32_t cx, std::uint32_t cy, std::uint32_t z, unsigned con
   return true;
 }
 
-// How far each of the twelve vertex streams of for_each_active_cube advances past a cube of each
+// How far each of the twelve vertex streams of for_each_surface_cube advances past a cube of each
 // configuration: 1 on the edges it cuts (cube.h's cut_edges), 0 elsewhere. Whole rows of counts
 // make the advance twelve independent adds, which the compiler turns into three vector adds;
 // extracting twelve bits of a mask costs several times that.
@@ -524,8 +524,8 @@ constexpr StreamAdvanceTable kStreamAdvance = build_stream_advance_table();
 // cube's edge e is the next one of stream e: a running count, advanced past each cube's cut
 // edges. (Columns the walk skips, 0 of y- and z-edges, and row -1, hold no vertex.)
 template <typename CubeAction>
-bool for_each_active_cube(const EngineState& st, int lo, int hi, std::uint32_t height,
-                          CubeAction&& action) {
+bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t height,
+                           CubeAction&& action) {
   std::uint32_t next[cube::kEdges];
   for (int e = 0; e < 4; ++e) {
     next[e] = st.x_edges[e < 2 ? lo : hi].base;
@@ -571,7 +571,7 @@ bool for_each_active_cube(const EngineState& st, int lo, int hi, std::uint32_t h
 // copied from the case's fixed-size records.
 bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
                      Emitter& emitter) {
-  return for_each_active_cube(
+  return for_each_surface_cube(
       st, lo, hi, height,
       [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
         if (emitter.next_geometry())  // polygons by value too: the general path
