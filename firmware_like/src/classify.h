@@ -18,8 +18,9 @@ struct Thresholds {
 Thresholds make_thresholds(double threshold);
 
 // Classifies `height` rows of `slice` into `rows` (row_words words per row, see
-// padded_row_words). Returns the number of inner voxels.
+// padded_row_words) and sets occupied[y] to whether row y has an inner voxel, so that the later
+// passes can skip empty rows without reading them. Returns the number of inner voxels.
 std::uint64_t classify_slice(const SliceView& slice, const Thresholds& thresholds,
-                             std::uint64_t* rows, std::uint32_t row_words);
+                             std::uint64_t* rows, std::uint32_t row_words, std::uint8_t* occupied);
 
 }  // namespace mvox

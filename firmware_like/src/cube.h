@@ -82,6 +82,16 @@ constexpr bool face_is_ambiguous(unsigned config, int face) {
   return c0 == c2 && c1 == c3 && c0 != c1;
 }
 
+// The edges of a cube that carry a vertex in `config`: those whose two corners differ. Bit e is
+// edge e.
+constexpr std::uint16_t cut_edges(unsigned config) {
+  std::uint16_t cut = 0;
+  for (int e = 0; e < kEdges; ++e)
+    if ((config >> edge_low_corner(e) & 1) != (config >> edge_high_corner(e) & 1))
+      cut = static_cast<std::uint16_t>(cut | 1u << e);
+  return cut;
+}
+
 constexpr int inner_count(unsigned config) {
   int n = 0;
   for (int c = 0; c < kCorners; ++c) n += config >> c & 1;

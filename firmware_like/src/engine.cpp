@@ -4,6 +4,8 @@
 //           s-1 and s, number them in that order and send them to the sink (edge_plane.h);
 //   PASS 3  find the polygons of every cube between slices s-1 and s, which that slice
 //           completes, and send them: by table lookup (fast) or from the literal merge passes.
+//           The fast engine walks the cubes in the order PASS 2 numbered the vertices, so it
+//           knows each vertex's index by running counts; the literal engine asks the edge planes.
 // Marching cubes runs the same passes with its own table of triangles (PASS 3) and moves each
 // vertex along its edge to the interpolated crossing (edge_interpolation.h).
 // Slices -1 and D (one past the last) are all outer, so every surface closes.
@@ -21,6 +23,7 @@
 #include "edge_plane.h"
 #include "literal_layers.h"
 #include "marching_cubes_table.h"
+#include "word_configs.h"
 
 namespace mvox {
 
@@ -40,6 +43,7 @@ constexpr std::uint64_t align_up(std::uint64_t bytes) {
 struct Layout {
   std::size_t state = 0;
   std::size_t inner[2] = {};
+  std::size_t occupied[2] = {};
   std::size_t zero_row = 0;
   std::size_t x_bits[2] = {}, x_prefix[2] = {};
   std::size_t y_bits[2] = {}, y_prefix[2] = {};
@@ -70,16 +74,15 @@ struct detail::EngineState {
   PolygonSink* sink = nullptr;
   const CaseTable* table = nullptr;
   std::uint32_t row_words = 0;
-  std::uint64_t* inner[2] = {};  // bit rows of slice s in slot s & 1
+  std::uint64_t* inner[2] = {};    // bit rows of slice s in slot s & 1
+  std::uint8_t* occupied[2] = {};  // per bit row of each slot: has it an inner voxel?
   const std::uint64_t* zero_row = nullptr;
   EdgePlane x_edges[2];  // x-edges of the slice in each slot
   EdgePlane y_edges[2];  // y-edges of the slice in each slot (height + 1 rows)
   EdgePlane z_edges;     // z-edges between the two slots' slices
   Vertex* vertex_batch = nullptr;
-  std::uint32_t vertex_fill = 0;
   Polygon* polygon_batch = nullptr;
   PolygonGeometry* geometry_batch = nullptr;  // parallel to polygon_batch; null unless asked for
-  std::uint32_t polygon_fill = 0;
   LiteralLayers literal;
   EdgeInterpolation interpolation;  // marching cubes only
   bool interpolate = false;
@@ -87,6 +90,10 @@ struct detail::EngineState {
   const std::uint64_t* row(int slot, std::int64_t y, std::uint32_t height) const {
     if (y < 0 || y >= static_cast<std::int64_t>(height)) return zero_row;
     return inner[slot] + static_cast<std::size_t>(y) * row_words;
+  }
+
+  bool row_occupied(int slot, std::int64_t y, std::uint32_t height) const {
+    return y >= 0 && y < static_cast<std::int64_t>(height) && occupied[slot][y];
   }
 };
 
@@ -110,14 +117,20 @@ bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptio
   layout->state = take(sizeof(EngineState));
   for (int slot = 0; slot < 2; ++slot) {
     layout->inner[slot] = take(words_bytes(height));
-    layout->x_bits[slot] = take(words_bytes(height));
-    layout->x_prefix[slot] = take(prefix_bytes(height));
-    layout->y_bits[slot] = take(words_bytes(std::uint64_t{height} + 1));
-    layout->y_prefix[slot] = take(prefix_bytes(std::uint64_t{height} + 1));
+    layout->occupied[slot] = take(height);
   }
   layout->zero_row = take(words_bytes(1));
-  layout->z_bits = take(words_bytes(height));
-  layout->z_prefix = take(prefix_bytes(height));
+  // The edge planes' bits and prefix counts serve only the literal engine's rank queries
+  // (cube_edge_index); the fast engine numbers vertices by running counts (for_each_surface_cube).
+  const bool planes = options.kind == EngineKind::literal;
+  for (int slot = 0; slot < 2; ++slot) {
+    layout->x_bits[slot] = take(planes ? words_bytes(height) : 0);
+    layout->x_prefix[slot] = take(planes ? prefix_bytes(height) : 0);
+    layout->y_bits[slot] = take(planes ? words_bytes(std::uint64_t{height} + 1) : 0);
+    layout->y_prefix[slot] = take(planes ? prefix_bytes(std::uint64_t{height} + 1) : 0);
+  }
+  layout->z_bits = take(planes ? words_bytes(height) : 0);
+  layout->z_prefix = take(planes ? prefix_bytes(height) : 0);
   layout->vertices = take(std::uint64_t{options.vertices_per_batch} * sizeof(Vertex));
   layout->polygons = take(std::uint64_t{options.polygons_per_batch} * sizeof(Polygon));
   layout->geometry = take(options.polygon_geometry
@@ -168,32 +181,30 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   state->table = &case_table(options.rule);
   state->row_words = padded_row_words(width);
   const std::uint32_t words = state->row_words;
+  // Only the literal engine stores the planes' bits and prefix counts (compute_layout).
+  auto plane = [&](std::size_t bits, std::size_t prefix, std::uint32_t rows) {
+    EdgePlane result;
+    if (options.kind == EngineKind::literal) {
+      result.bits = reinterpret_cast<std::uint64_t*>(base + bits);
+      result.prefix = reinterpret_cast<std::uint32_t*>(base + prefix);
+    }
+    result.rows = rows;
+    result.row_words = words;
+    return result;
+  };
   for (int slot = 0; slot < 2; ++slot) {
     state->inner[slot] = reinterpret_cast<std::uint64_t*>(base + layout.inner[slot]);
-    state->x_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.x_bits[slot]),
-                            reinterpret_cast<std::uint32_t*>(base + layout.x_prefix[slot]),
-                            height,
-                            words,
-                            0,
-                            0};
-    state->y_edges[slot] = {reinterpret_cast<std::uint64_t*>(base + layout.y_bits[slot]),
-                            reinterpret_cast<std::uint32_t*>(base + layout.y_prefix[slot]),
-                            height + 1,
-                            words,
-                            0,
-                            0};
+    state->occupied[slot] = reinterpret_cast<std::uint8_t*>(base + layout.occupied[slot]);
+    state->x_edges[slot] = plane(layout.x_bits[slot], layout.x_prefix[slot], height);
+    state->y_edges[slot] = plane(layout.y_bits[slot], layout.y_prefix[slot], height + 1);
   }
-  state->z_edges = {reinterpret_cast<std::uint64_t*>(base + layout.z_bits),
-                    reinterpret_cast<std::uint32_t*>(base + layout.z_prefix),
-                    height,
-                    words,
-                    0,
-                    0};
+  state->z_edges = plane(layout.z_bits, layout.z_prefix, height);
   std::uint64_t* zero_row = reinterpret_cast<std::uint64_t*>(base + layout.zero_row);
   std::memset(zero_row, 0, words * sizeof(std::uint64_t));
   state->zero_row = zero_row;
   // Slot 1 stands for slice -1 when slice 0 arrives: all outer.
   std::memset(state->inner[1], 0, std::size_t{height} * words * sizeof(std::uint64_t));
+  std::memset(state->occupied[1], 0, height);
   state->vertex_batch = reinterpret_cast<Vertex*>(base + layout.vertices);
   state->polygon_batch = reinterpret_cast<Polygon*>(base + layout.polygons);
   if (options.polygon_geometry)
@@ -219,50 +230,73 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
 
 namespace {
 
+// Batches one layer's vertices and polygons for the sink. The batch fills and the layer's counts
+// live in the emitter, not in the engine state: the emitter is a local whose address never
+// escapes, so the compiler keeps them in registers through the hot loops (through the state they
+// would be reloaded after every store into a batch, which might alias them). Both batches are
+// empty between layers, and the counts reach the engine's counters however the layer ends.
 class Emitter {
  public:
-  Emitter(EngineState& state, EngineCounters& counters) : state_(state), counters_(counters) {}
+  Emitter(EngineState& state, EngineCounters& counters)
+      : state_(state),
+        counters_(counters),
+        vertices_(state.vertex_batch),
+        vertex_capacity_(state.options.vertices_per_batch),
+        vertex_count_(counters.vertices),
+        polygons_(state.polygon_batch),
+        geometry_(state.geometry_batch),
+        polygon_capacity_(state.options.polygons_per_batch),
+        interpolation_(state.interpolate ? &state.interpolation : nullptr) {}
 
-  // Returns false when the sink refused or the index space is exhausted; status() says which.
+  Emitter(const Emitter&) = delete;
+  Emitter& operator=(const Emitter&) = delete;
+
+  ~Emitter() {
+    counters_.vertices = vertex_count_;
+    for (int size = 0; size <= kMaxPolygonVertices; ++size) {
+      counters_.polygons += polygons_by_size_[size];
+      counters_.polygons_by_size[size] += polygons_by_size_[size];
+    }
+  }
+
+  // The one place a vertex is produced. Returns false when the sink refused or the index space
+  // is exhausted; status() says which.
   bool vertex(float x, float y, float z, Axis axis, bool inner_is_lower) {
-    if (counters_.vertices >= kMaxVertexCount) return stop(Status::vertex_index_overflow);
-    Vertex& v = state_.vertex_batch[state_.vertex_fill++];
+    if (vertex_count_ >= kMaxVertexCount) return stop(Status::vertex_index_overflow);
+    Vertex& v = vertices_[vertex_fill_++];
     v.x = x;
     v.y = y;
     v.z = z;
     v.axis = axis;
     v.inner_is_lower = inner_is_lower;
-    if (state_.interpolate) state_.interpolation.place(v);
-    ++counters_.vertices;
-    return state_.vertex_fill < state_.options.vertices_per_batch || flush_vertices();
+    if (interpolation_) interpolation_->place(v);
+    ++vertex_count_;
+    return vertex_fill_ < vertex_capacity_ || flush_vertices();
   }
 
-  Polygon& next_polygon() { return state_.polygon_batch[state_.polygon_fill]; }
+  Polygon& next_polygon() { return polygons_[polygon_fill_]; }
   // Null unless the options ask for polygons by value.
-  PolygonGeometry* next_geometry() {
-    return state_.geometry_batch ? &state_.geometry_batch[state_.polygon_fill] : nullptr;
-  }
+  PolygonGeometry* next_geometry() { return geometry_ ? &geometry_[polygon_fill_] : nullptr; }
 
   bool commit_polygon() {
-    const Polygon& p = state_.polygon_batch[state_.polygon_fill++];
-    ++counters_.polygons;
-    ++counters_.polygons_by_size[p.vertex_count];
-    return state_.polygon_fill < state_.options.polygons_per_batch || flush_polygons();
+    const Polygon& p = polygons_[polygon_fill_++];
+    ++polygons_by_size_[p.vertex_count];
+    return polygon_fill_ < polygon_capacity_ || flush_polygons();
   }
 
   bool flush_vertices() {
-    if (state_.vertex_fill == 0) return true;
-    const Status s = state_.sink->consume_vertices(state_.vertex_batch, state_.vertex_fill);
-    state_.vertex_fill = 0;
+    if (vertex_fill_ == 0) return true;
+    const Status s = state_.sink->consume_vertices(vertices_, vertex_fill_);
+    vertex_fill_ = 0;
     return s == Status::ok || stop(Status::sink_refused);
   }
 
   bool flush_polygons() {
-    if (state_.polygon_fill == 0) return true;
-    Status s = state_.sink->consume_polygons(state_.polygon_batch, state_.polygon_fill);
-    if (s == Status::ok && state_.geometry_batch)
-      s = state_.sink->consume_polygon_geometry(state_.geometry_batch, state_.polygon_fill);
-    state_.polygon_fill = 0;
+    if (polygon_fill_ == 0) return true;
+    Status s = state_.sink->consume_polygons(polygons_, polygon_fill_);
+    if (s == Status::ok && geometry_)
+      s = state_.sink->consume_polygon_geometry(geometry_, polygon_fill_);
+    polygon_fill_ = 0;
     return s == Status::ok || stop(Status::sink_refused);
   }
 
@@ -277,25 +311,68 @@ class Emitter {
   EngineState& state_;
   EngineCounters& counters_;
   Status status_ = Status::ok;
+  Vertex* const vertices_;
+  const std::uint32_t vertex_capacity_;
+  std::uint32_t vertex_fill_ = 0;
+  std::uint64_t vertex_count_;  // all vertices so far, this layer's included
+  Polygon* const polygons_;
+  PolygonGeometry* const geometry_;
+  const std::uint32_t polygon_capacity_;
+  std::uint32_t polygon_fill_ = 0;
+  std::uint64_t polygons_by_size_[kMaxPolygonVertices + 1] = {};  // this layer's
+  const EdgeInterpolation* const interpolation_;  // marching cubes only: moves each vertex
 };
 
-// PASS 2 for one plane: each row's edge bits come from `edge_word(row, w)`; every set bit becomes
-// a vertex placed by `emit(row, j, emitter)`. Fills the plane's bits and prefix counts.
-template <typename EdgeWord, typename EmitVertex>
-bool build_plane(EdgePlane& plane, std::uint32_t first_index, EdgeWord edge_word, EmitVertex emit,
-                 Emitter& emitter) {
+// One family of parallel edges as PASS 2 walks it. Row r of the plane joins bit row `lower` (the
+// voxels with the smaller coordinate along `axis`) and bit row `upper`; the edge at column j
+// carries a vertex where they differ, at (j + dx, r + dy, z + dz) in voxel units.
+struct PlaneGeometry {
+  Axis axis;
+  float dx, dy, dz;
+};
+
+struct EdgeRows {
+  const std::uint64_t* lower;
+  const std::uint64_t* upper;  // for x-edges the same row as `lower`, read one column on
+  bool occupied;               // false when both rows are all outer: no edge has a vertex
+};
+
+// PASS 2 for one plane: a vertex for every edge whose two voxels differ, row by row in increasing
+// column, numbered from `first_index`. `rows_of(r)` gives the plane's row r as EdgeRows. Fills
+// the plane's bits and prefix counts when it has them (the literal engine's rank queries).
+template <bool kUpperIsNextColumn, typename RowsOf>
+bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
+                 const PlaneGeometry& geometry, float z, Emitter& emitter) {
   plane.base = first_index;
+  const std::uint32_t words = plane.row_words;
+  const float vertex_z = z + geometry.dz;
   std::uint32_t count = 0;
-  for (std::uint32_t row = 0; row < plane.rows; ++row) {
-    for (std::uint32_t w = 0; w < plane.row_words; ++w) {
-      const std::uint32_t at = row * plane.row_words + w;
-      std::uint64_t bits = edge_word(row, w);
-      plane.bits[at] = bits;
-      plane.prefix[at] = count;
-      count += static_cast<std::uint32_t>(set_bit_count(bits));
-      for (; bits; bits &= bits - 1)
-        if (!emit(row, w * 64 + static_cast<std::uint32_t>(lowest_set_bit(bits)), emitter))
-          return false;
+  for (std::uint32_t r = 0; r < plane.rows; ++r) {
+    const EdgeRows rows = rows_of(r);
+    if (!rows.occupied) {  // computational trimming: nothing to read
+      if (plane.bits)
+        for (std::uint32_t w = 0; w < words; ++w) {
+          plane.bits[r * words + w] = 0;
+          plane.prefix[r * words + w] = count;
+        }
+      continue;
+    }
+    const float y = static_cast<float>(r) + geometry.dy;
+    for (std::uint32_t w = 0; w < words; ++w) {
+      const std::uint64_t lower = rows.lower[w];
+      const std::uint64_t upper =
+          kUpperIsNextColumn ? shifted_down(rows.upper, w, words) : rows.upper[w];
+      std::uint64_t edges = lower ^ upper;
+      if (plane.bits) {
+        plane.bits[r * words + w] = edges;
+        plane.prefix[r * words + w] = count;
+      }
+      for (; edges; edges &= edges - 1) {
+        const int bit = lowest_set_bit(edges);
+        const float x = static_cast<float>(w * 64 + static_cast<std::uint32_t>(bit)) + geometry.dx;
+        if (!emitter.vertex(x, y, vertex_z, geometry.axis, (lower >> bit & 1) != 0)) return false;
+        ++count;
+      }
     }
   }
   plane.count = count;
@@ -320,54 +397,45 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
   std::uint32_t next_index = static_cast<std::uint32_t>(first_index);
 
   if (with_slice_edges) {
-    // x-edge j joins voxels j - 1 and j: bit j of (row XOR row shifted down by one).
+    // x-edge j joins padded columns j and j + 1, voxels x = j - 1 and x = j.
     EdgePlane& xp = st.x_edges[slot];
-    if (!build_plane(
+    if (!build_plane<true>(
             xp, next_index,
-            [&](std::uint32_t y, std::uint32_t w) {
-              const std::uint64_t* r = rows + std::size_t{y} * words;
-              return r[w] ^ shifted_down(r, w, words);
+            [&](std::uint32_t y) {
+              const std::uint64_t* row = rows + std::size_t{y} * words;
+              return EdgeRows{row, row, st.occupied[slot][y] != 0};
             },
-            [&](std::uint32_t y, std::uint32_t j, Emitter& e) {
-              return e.vertex(static_cast<float>(j) - 0.5f, static_cast<float>(y), fz, Axis::x,
-                              test_bit(rows + std::size_t{y} * words, j));
-            },
-            emitter))
+            PlaneGeometry{Axis::x, -0.5f, 0.0f, 0.0f}, fz, emitter))
       return false;
     next_index += xp.count;
 
     // y-edge row r joins voxel rows r - 1 and r (r = 0 and r = height meet the outside).
     EdgePlane& yp = st.y_edges[slot];
-    if (!build_plane(
+    if (!build_plane<false>(
             yp, next_index,
-            [&](std::uint32_t r, std::uint32_t w) {
-              return st.row(slot, std::int64_t{r} - 1, height)[w] ^ st.row(slot, r, height)[w];
+            [&](std::uint32_t r) {
+              return EdgeRows{st.row(slot, std::int64_t{r} - 1, height), st.row(slot, r, height),
+                              st.row_occupied(slot, std::int64_t{r} - 1, height) ||
+                                  st.row_occupied(slot, r, height)};
             },
-            [&](std::uint32_t r, std::uint32_t j, Emitter& e) {
-              return e.vertex(static_cast<float>(j) - 1.0f, static_cast<float>(r) - 0.5f, fz,
-                              Axis::y, test_bit(st.row(slot, std::int64_t{r} - 1, height), j));
-            },
-            emitter))
+            PlaneGeometry{Axis::y, -1.0f, -0.5f, 0.0f}, fz, emitter))
       return false;
     next_index += yp.count;
   }
 
   // z-edges between slice z - 1 (other slot) and slice z.
-  return build_plane(
+  return build_plane<false>(
       st.z_edges, next_index,
-      [&](std::uint32_t y, std::uint32_t w) {
-        return below[std::size_t{y} * words + w] ^ rows[std::size_t{y} * words + w];
+      [&](std::uint32_t y) {
+        return EdgeRows{below + std::size_t{y} * words, rows + std::size_t{y} * words,
+                        st.occupied[slot ^ 1][y] || st.occupied[slot][y]};
       },
-      [&](std::uint32_t y, std::uint32_t j, Emitter& e) {
-        return e.vertex(static_cast<float>(j) - 1.0f, static_cast<float>(y), fz - 0.5f, Axis::z,
-                        test_bit(below + std::size_t{y} * words, j));
-      },
-      emitter);
+      PlaneGeometry{Axis::z, -1.0f, 0.0f, -0.5f}, fz, emitter);
 }
 
 // The global index of the vertex on cube edge `e` (cube.h) of cube (cx, cy) in the layer between
-// slot `lo` and slot `hi`. Cube cx holds voxel columns cx - 1 and cx, that is padded columns cx
-// and cx + 1; cube cy holds rows cy - 1 and cy.
+// slot `lo` and slot `hi`, by a rank query on the edge planes. Cube cx holds voxel columns
+// cx - 1 and cx, that is padded columns cx and cx + 1; cube cy holds rows cy - 1 and cy.
 inline std::uint32_t cube_edge_index(const EngineState& st, int lo, int hi, int e, std::uint32_t cx,
                                      std::uint32_t cy) {
   switch (e) {
@@ -421,14 +489,17 @@ inline Vertex cube_edge_vertex(int e, float x0, float y0, float z0, unsigned con
   return v;
 }
 
-bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uint32_t cy,
-               std::uint32_t z, unsigned config, const CubePolygons& polygons, Emitter& emitter) {
+// The polygons of cube (cx, cy) between slices z - 1 and z, whose configuration is `config`;
+// `edge_index[e]` is the global index of the vertex on cube edge e, for every edge the
+// configuration cuts.
+bool emit_cube(std::uint32_t cx, std::uint32_t cy, std::uint32_t z, unsigned config,
+               const CubePolygons& polygons, const std::uint32_t* edge_index, Emitter& emitter) {
   int offset = 0;
   for (int p = 0; p < polygons.polygon_count; ++p) {
     Polygon& out = emitter.next_polygon();
     out.vertex_count = polygons.polygon_sizes[p];
     for (int i = 0; i < out.vertex_count; ++i)
-      out.vertices[i] = cube_edge_index(st, lo, hi, polygons.edges[offset + i], cx, cy);
+      out.vertices[i] = edge_index[polygons.edges[offset + i]];
     if (PolygonGeometry* geometry = emitter.next_geometry()) {
       // Cube cx holds voxel columns cx - 1 and cx; likewise rows and slices.
       const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
@@ -443,14 +514,54 @@ bool emit_cube(const EngineState& st, int lo, int hi, std::uint32_t cx, std::uin
   return true;
 }
 
-// Calls visit(cx, cy, config) for every cube of the layer between slot `lo` and slot `hi` whose
-// eight voxels are not all alike (computational trimming after Flying Edges), a word of 64
-// cubes at a time; stops when it returns false.
-template <typename VisitCube>
+// How far each of the twelve vertex streams of for_each_surface_cube advances past a cube of each
+// configuration: 1 on the edges it cuts (cube.h's cut_edges), 0 elsewhere. Whole rows of counts
+// make the advance twelve independent adds, which the compiler turns into three vector adds;
+// extracting twelve bits of a mask costs several times that.
+struct StreamAdvanceTable {
+  std::uint32_t advance[256][cube::kEdges];
+};
+
+constexpr StreamAdvanceTable build_stream_advance_table() {
+  StreamAdvanceTable table{};
+  for (unsigned config = 0; config < 256; ++config)
+    for (int e = 0; e < cube::kEdges; ++e)
+      table.advance[config][e] = cube::cut_edges(config) >> e & 1;
+  return table;
+}
+
+constexpr StreamAdvanceTable kStreamAdvance = build_stream_advance_table();
+
+// PASS 3's walk over the cubes of the layer between slot `lo` and slot `hi`, row by row, in
+// increasing x. It visits only cubes whose eight voxels are not all alike (computational
+// trimming after Flying Edges), a word of 64 cubes at a time, and calls
+// `action(cx, cy, config, edge_index)` for each; `edge_index[e]` is the global index of the
+// vertex on cube edge e (cube.h) for every edge that `config` cuts. Stops when `action` returns
+// false.
+//
+// The indices come without a rank query. Each cube edge e reads one stream of PASS 2's vertices:
+// edge 0 of cube (cx, cy) is the x-edge at column cx of row cy - 1 of the lower slice, edge 5
+// the y-edge at column cx + 1 of row cy, and so on (cube_edge_index). As the walk goes through
+// the cubes in order, each stream goes through its plane's rows in PASS 2's order, and every
+// vertex in it belongs to a cube that cuts e, which is active and visited. So the vertex of a
+// cube's edge e is the next one of stream e: a running count, advanced past each cube's cut
+// edges. (Columns the walk skips, 0 of y- and z-edges, and row -1, hold no vertex.)
+template <typename CubeAction>
 bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t height,
-                           VisitCube visit) {
+                           CubeAction&& action) {
+  std::uint32_t next[cube::kEdges];
+  for (int e = 0; e < 4; ++e) {
+    next[e] = st.x_edges[e < 2 ? lo : hi].base;
+    next[4 + e] = st.y_edges[e < 2 ? lo : hi].base;
+    next[8 + e] = st.z_edges.base;
+  }
   const std::uint32_t words = st.row_words;
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
+    // Computational trimming: four all-outer rows hold no active cube and no vertex, so every
+    // stream stays where it is.
+    if (!st.row_occupied(lo, std::int64_t{cy} - 1, height) && !st.row_occupied(lo, cy, height) &&
+        !st.row_occupied(hi, std::int64_t{cy} - 1, height) && !st.row_occupied(hi, cy, height))
+      continue;
     const std::uint64_t* r0 = st.row(lo, std::int64_t{cy} - 1, height);  // corners by=0, bz=0
     const std::uint64_t* r1 = st.row(lo, cy, height);                    // by=1, bz=0
     const std::uint64_t* r2 = st.row(hi, std::int64_t{cy} - 1, height);  // by=0, bz=1
@@ -463,25 +574,41 @@ bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t 
       const std::uint64_t d0 = r3[w], d1 = shifted_down(r3, w, words);
       const std::uint64_t any = a0 | a1 | b0 | b1 | c0 | c1 | d0 | d1;
       const std::uint64_t all = a0 & a1 & b0 & b1 & c0 & c1 & d0 & d1;
-      for (std::uint64_t active = any & ~all; active; active &= active - 1) {
+      std::uint64_t active = any & ~all;
+      if (!active) continue;
+      const WordConfigs configs({a0, a1, b0, b1, c0, c1, d0, d1});  // in cube.h's corner order
+      for (; active; active &= active - 1) {
         const int bit = lowest_set_bit(active);
-        const unsigned config = static_cast<unsigned>((a0 >> bit & 1) | (a1 >> bit & 1) << 1 |
-                                                      (b0 >> bit & 1) << 2 | (b1 >> bit & 1) << 3 |
-                                                      (c0 >> bit & 1) << 4 | (c1 >> bit & 1) << 5 |
-                                                      (d0 >> bit & 1) << 6 | (d1 >> bit & 1) << 7);
-        if (!visit(w * 64 + static_cast<std::uint32_t>(bit), cy, config)) return false;
+        const unsigned config = configs[bit];
+        const std::uint32_t cx = w * 64 + static_cast<std::uint32_t>(bit);
+        if (!action(cx, cy, config, static_cast<const std::uint32_t*>(next))) return false;
+        const std::uint32_t* advance = kStreamAdvance.advance[config];
+        for (int e = 0; e < cube::kEdges; ++e) next[e] += advance[e];
       }
     }
   }
   return true;
 }
 
-// PASS 3, fast: each surface cube's polygons looked up in the merge-rule table.
+// PASS 3, fast: each active cube's configuration looked up in the case table, its polygons
+// copied from the case's fixed-size records.
 bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
                      Emitter& emitter) {
   return for_each_surface_cube(
-      st, lo, hi, height, [&](std::uint32_t cx, std::uint32_t cy, unsigned config) {
-        return emit_cube(st, lo, hi, cx, cy, z, config, st.table->cases[config], emitter);
+      st, lo, hi, height,
+      [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
+        if (emitter.next_geometry())  // polygons by value too: the general path
+          return emit_cube(cx, cy, z, config, st.table->cases[config], edge_index, emitter);
+        const CaseRecords& records = st.table->records[config];
+        for (int p = 0; p < records.polygon_count; ++p) {
+          const PolygonRecord& record = records.polygons[p];
+          Polygon& out = emitter.next_polygon();
+          out.vertex_count = record.vertex_count;
+          for (int i = 0; i < kMaxPolygonVertices; ++i)
+            out.vertices[i] = edge_index[record.edges[i]];
+          if (!emitter.commit_polygon()) return false;
+        }
+        return true;
       });
 }
 
@@ -491,14 +618,14 @@ bool emit_layer_cubes(const EngineState& st, int lo, int hi, std::uint32_t z, st
                       Emitter& emitter) {
   const MarchingCubesTable& table = marching_cubes_table();
   return for_each_surface_cube(
-      st, lo, hi, height, [&](std::uint32_t cx, std::uint32_t cy, unsigned config) {
+      st, lo, hi, height,
+      [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
         const MarchingCubesCase& triangles = table.cases[config];
         for (int t = 0; t < triangles.triangle_count; ++t) {
           const std::uint8_t* edges = triangles.edges + 3 * t;
           Polygon& out = emitter.next_polygon();
           out.vertex_count = 3;
-          for (int i = 0; i < 3; ++i)
-            out.vertices[i] = cube_edge_index(st, lo, hi, edges[i], cx, cy);
+          for (int i = 0; i < 3; ++i) out.vertices[i] = edge_index[edges[i]];
           if (PolygonGeometry* geometry = emitter.next_geometry()) {
             const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
             const float z0 = static_cast<float>(z) - 1.0f;
@@ -532,7 +659,12 @@ bool emit_layer_literal(const EngineState& st, int lo, int hi, std::uint32_t z, 
                               test_bit(r3, cx + 1) << 7;
       if (st.options.rule == SurfaceRule::paper_table1 && paper_table1_applies(config))
         polygons = reversed(merge_passes(~config & 0xFFu));
-      if (!emit_cube(st, lo, hi, cx, cy, z, config, polygons, emitter)) return false;
+      std::uint32_t edge_index[cube::kEdges] = {};
+      for (unsigned cut = cube::cut_edges(config); cut; cut &= cut - 1) {
+        const int e = lowest_set_bit(cut);
+        edge_index[e] = cube_edge_index(st, lo, hi, e, cx, cy);
+      }
+      if (!emit_cube(cx, cy, z, config, polygons, edge_index, emitter)) return false;
     }
   }
   return true;
@@ -576,7 +708,8 @@ Status Engine::push_slice(const SliceView& slice) {
   EngineState& st = *state_;
   const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
-  counters_.inner_voxels += classify_slice(slice, st.thresholds, st.inner[hi], st.row_words);
+  counters_.inner_voxels +=
+      classify_slice(slice, st.thresholds, st.inner[hi], st.row_words, st.occupied[hi]);
   if (st.interpolate) st.interpolation.store(hi, slice);
   if (st.options.kind == EngineKind::literal)
     st.literal.add_slice(st.inner[lo], st.inner[hi], st.row_words);
@@ -595,6 +728,7 @@ Status Engine::finish() {
     const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
     const int hi = static_cast<int>(z & 1);
     std::memset(st.inner[hi], 0, std::size_t{height_} * st.row_words * sizeof(std::uint64_t));
+    std::memset(st.occupied[hi], 0, height_);
     st.interpolation.clear(hi);
     if (const Status status = emit_layer(st, z, false); status != Status::ok) return fail(status);
   }
