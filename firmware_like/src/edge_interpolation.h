@@ -55,6 +55,24 @@ class EdgeInterpolation {
   // there is no sample to interpolate, and the surface closes half a voxel outside, as marching
   // voxels closes it. The crossing stays on the pair's segment even for NaN samples.
   void place(Vertex& vertex) const {
+    if (const SampleType* type = common_type())
+      dispatch_sample_type(
+          *type, [&](auto tag) { place_as<static_cast<int>(decltype(tag)::value)>(vertex); });
+    else
+      place_as<kMixedTypes>(vertex);
+  }
+
+  // The type of every slice kept (null when the two differ): a layer can then be compiled for
+  // it, with no dispatch per vertex.
+  const SampleType* common_type() const {
+    if (!slabs_[0].present) return &slabs_[1].type;
+    if (!slabs_[1].present || slabs_[0].type == slabs_[1].type) return &slabs_[0].type;
+    return nullptr;
+  }
+
+  // place() for slices of type kType (kMixedTypes: each slab's own type, dispatched per sample).
+  template <int kType>
+  void place_as(Vertex& vertex) const {
     const int axis = static_cast<int>(vertex.axis);
     float& along = axis == 0 ? vertex.x : axis == 1 ? vertex.y : vertex.z;
     const float lower = along - 0.5f;  // exact: midpoints are whole numbers plus a half
@@ -67,18 +85,25 @@ class EdgeInterpolation {
     const SampleSlab& slab0 = slabs_[z & 1];
     const SampleSlab& slab1 = slabs_[z1 & 1];
     if (!slab0.present || !slab1.present) return;
-    const float a = sample(slab0, x, y), b = sample(slab1, x1, y1);
+    const float a = sample<kType>(slab0, x, y), b = sample<kType>(slab1, x1, y1);
     const float t = (threshold_ - a) / (b - a);
     along = lower + (t >= 0.0f && t <= 1.0f ? t : 0.5f);
   }
 
+  static constexpr int kMixedTypes = -1;
+
  private:
+  template <int kType>
   float sample(const SampleSlab& slab, std::uint32_t x, std::uint32_t y) const {
-    return dispatch_sample_type(slab.type, [&](auto tag) {
-      constexpr SampleType kType = decltype(tag)::value;
-      const std::size_t row_bytes = std::size_t{width_} * sample_bytes(kType);
-      return load_sample<kType>(slab.bytes + y * row_bytes, x);
-    });
+    if constexpr (kType == kMixedTypes) {
+      return dispatch_sample_type(slab.type, [&](auto tag) {
+        return sample<static_cast<int>(decltype(tag)::value)>(slab, x, y);
+      });
+    } else {
+      constexpr auto type = static_cast<SampleType>(kType);
+      const std::size_t row_bytes = std::size_t{width_} * sample_bytes(type);
+      return load_sample<type>(slab.bytes + y * row_bytes, x);
+    }
   }
 
   SampleSlab slabs_[2];

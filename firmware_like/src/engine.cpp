@@ -612,33 +612,51 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std
       });
 }
 
-// PASS 3, marching cubes: each surface cube's triangles from Lorensen and Cline's table, with
-// their vertices by value moved to the interpolated crossings, as PASS 2 placed them.
-bool emit_layer_cubes(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
-                      Emitter& emitter) {
+// PASS 3, marching cubes: each surface cube's triangles from Lorensen and Cline's table. With
+// polygons by value, each cut edge's vertex is placed once per cube (as PASS 2 placed it), with
+// the sample type fixed for the whole layer.
+template <int kType>
+bool emit_layer_cubes_as(const EngineState& st, int lo, int hi, std::uint32_t z,
+                         std::uint32_t height, Emitter& emitter) {
   const MarchingCubesTable& table = marching_cubes_table();
+  const bool by_value = emitter.next_geometry() != nullptr;
   return for_each_surface_cube(
       st, lo, hi, height,
       [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
         const MarchingCubesCase& triangles = table.cases[config];
+        Vertex placed[cube::kEdges];
+        if (by_value) {
+          const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
+          const float z0 = static_cast<float>(z) - 1.0f;
+          for (unsigned cut = cube::cut_edges(config); cut; cut &= cut - 1) {
+            const int e = lowest_set_bit(cut);
+            placed[e] = cube_edge_vertex(e, x0, y0, z0, config);
+            st.interpolation.place_as<kType>(placed[e]);
+          }
+        }
         for (int t = 0; t < triangles.triangle_count; ++t) {
           const std::uint8_t* edges = triangles.edges + 3 * t;
           Polygon& out = emitter.next_polygon();
           out.vertex_count = 3;
           for (int i = 0; i < 3; ++i) out.vertices[i] = edge_index[edges[i]];
           if (PolygonGeometry* geometry = emitter.next_geometry()) {
-            const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
-            const float z0 = static_cast<float>(z) - 1.0f;
             geometry->vertex_count = 3;
-            for (int i = 0; i < 3; ++i) {
-              geometry->vertices[i] = cube_edge_vertex(edges[i], x0, y0, z0, config);
-              st.interpolation.place(geometry->vertices[i]);
-            }
+            for (int i = 0; i < 3; ++i) geometry->vertices[i] = placed[edges[i]];
           }
           if (!emitter.commit_polygon()) return false;
         }
         return true;
       });
+}
+
+bool emit_layer_cubes(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
+                      Emitter& emitter) {
+  if (const SampleType* type = st.interpolation.common_type())
+    return dispatch_sample_type(*type, [&](auto tag) {
+      return emit_layer_cubes_as<static_cast<int>(decltype(tag)::value)>(st, lo, hi, z, height,
+                                                                         emitter);
+    });
+  return emit_layer_cubes_as<EdgeInterpolation::kMixedTypes>(st, lo, hi, z, height, emitter);
 }
 
 // PASS 3, literal: the merged segments of each completed cube, walked into loops.
