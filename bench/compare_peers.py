@@ -217,7 +217,8 @@ def compare_dataset(dataset, volume, args, scratch):
             f" | {cpu_per_wall:.2f} | {polygons:,} | {vertices:,} | {wall / reference:.2f} |"
         )
     in_memory = results["mvox, in memory"][0]
-    return rows, (in_memory.vertices, in_memory.polygons), exact
+    flying_edges = statistics.median(run.wall_s for run in results["vtkFlyingEdges3D"])
+    return rows, (in_memory.vertices, in_memory.polygons), exact, flying_edges / reference
 
 
 def parse_arguments():
@@ -330,10 +331,17 @@ def print_checks(checks, all_equal):
     print("Vertex sets: " + ("all EQUAL" if all_equal else "DIFFERENT"))
 
 
+def print_target(speedups):
+    """The issue's target: mvox's in-memory extraction at least 5x vtkFlyingEdges3D's speed."""
+    print("\nTarget, mvox in memory at least 5x as fast as vtkFlyingEdges3D (one thread each):")
+    for name, speedup in speedups:
+        print(f"- {name}: {speedup:.1f}x, {'met' if speedup >= 5 else '**not met**'}")
+
+
 def main():
     args = parse_arguments()
     print_header(args, *force_one_vtk_thread())
-    notes, checks, all_equal, compared = [], [], True, 0
+    notes, checks, all_equal, compared, speedups = [], [], True, 0, []
     with tempfile.TemporaryDirectory(prefix="compare_peers_") as scratch:
         for dataset in peers_io.list_datasets(args.extract_once, args.datasets):
             if not dataset["present"]:
@@ -344,8 +352,9 @@ def main():
             except (OSError, ValueError) as error:
                 notes.append(f"{dataset['name']}: skipped, {error}")
                 continue
-            rows, in_memory_counts, exact = compare_dataset(dataset, volume, args, scratch)
+            rows, in_memory_counts, exact, speedup = compare_dataset(dataset, volume, args, scratch)
             print("\n".join(rows), flush=True)
+            speedups.append((dataset["name"], speedup))
             compared += 1
             if not exact:
                 notes.append(f"{dataset['name']}: not integer data; iso value = threshold")
@@ -354,6 +363,7 @@ def main():
                 all_equal = all_equal and ok
                 checks += lines
     elsewhere_s = other_threads_cpu_s()
+    print_target(speedups)
     print_notes(notes, elsewhere_s, process_start_s(args.mvox, args.runs))
     if not compared:
         print(
