@@ -46,6 +46,23 @@ struct LoadedVolume {
   SliceView slice(std::uint32_t z) const;
 };
 
+// A decoded volume handed out slice by slice, as a reader would: to time the engine (and what
+// follows it) through stream_volume without the reader's cost.
+class LoadedVolumeSource final : public SliceSource {
+ public:
+  explicit LoadedVolumeSource(const LoadedVolume& volume) : volume_(volume) {}
+  const VolumeInfo& info() const override { return volume_.info; }
+  bool next_slice(SliceView* slice) override {
+    if (next_ >= volume_.info.depth) return false;
+    *slice = volume_.slice(next_++);
+    return true;
+  }
+
+ private:
+  const LoadedVolume& volume_;
+  std::uint32_t next_ = 0;
+};
+
 // Reads and decodes every slice of `dataset`. Throws what the readers throw.
 LoadedVolume load_dataset(const PaperDataset& dataset);
 

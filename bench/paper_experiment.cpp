@@ -70,22 +70,6 @@ RunReport pipeline(const PaperDataset& dataset, SurfaceMethod method, const std:
   return run_mesh_job(*source, job);
 }
 
-// The decoded volume as a slice source.
-class MemorySource final : public SliceSource {
- public:
-  explicit MemorySource(const LoadedVolume& volume) : volume_(volume) {}
-  const VolumeInfo& info() const override { return volume_.info; }
-  bool next_slice(SliceView* slice) override {
-    if (next_ >= volume_.info.depth) return false;
-    *slice = volume_.slice(next_++);
-    return true;
-  }
-
- private:
-  const LoadedVolume& volume_;
-  std::uint32_t next_ = 0;
-};
-
 // Extraction and rendering of decoded slices into a 512x512 picture; seconds, or -1 on error.
 double in_memory(const LoadedVolume& volume, double threshold, SurfaceMethod method,
                  EngineCounters* counters, RenderCounters* drawn) {
@@ -100,7 +84,7 @@ double in_memory(const LoadedVolume& volume, double threshold, SurfaceMethod met
   const Camera camera = fit_camera(box_min, box_max, ViewOptions{}, kImageSide, kImageSide);
   const glm::vec3 spacing(info.spacing[0], info.spacing[1], info.spacing[2]);
   const glm::vec3 origin(info.origin[0], info.origin[1], info.origin[2]);
-  MemorySource source(volume);
+  LoadedVolumeSource source(volume);
   SliceWindow window;
   ZBufferRenderer renderer;
   Engine engine;

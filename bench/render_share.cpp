@@ -46,22 +46,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// The decoded volume as a slice source, so that both runs go through stream_volume.
-class MemorySource final : public SliceSource {
- public:
-  explicit MemorySource(const LoadedVolume& volume) : volume_(volume) {}
-  const VolumeInfo& info() const override { return volume_.info; }
-  bool next_slice(SliceView* slice) override {
-    if (next_ >= volume_.info.depth) return false;
-    *slice = volume_.slice(next_++);
-    return true;
-  }
-
- private:
-  const LoadedVolume& volume_;
-  std::uint32_t next_ = 0;
-};
-
 // Forwards every batch to `inner` and adds up the time spent there. The engine sends a few
 // batches per slice, so the clock reads cost nothing measurable.
 class TimedSink final : public PolygonSink {
@@ -119,7 +103,7 @@ struct Runs {
 double extract(const LoadedVolume& volume, double threshold, const EngineOptions& options,
                WorkspaceBuffer& workspace, EngineCounters* counters) {
   const VolumeInfo& info = volume.info;
-  MemorySource source(volume);
+  LoadedVolumeSource source(volume);
   CountingSink sink;
   Engine engine;
   const auto start = Clock::now();
@@ -141,7 +125,7 @@ double extract_and_render(const LoadedVolume& volume, double threshold,
   const VolumeInfo& info = volume.info;
   const glm::vec3 spacing(info.spacing[0], info.spacing[1], info.spacing[2]);
   const glm::vec3 origin(info.origin[0], info.origin[1], info.origin[2]);
-  MemorySource source(volume);
+  LoadedVolumeSource source(volume);
   SliceWindow window;
   Engine engine;
   const auto start = Clock::now();
