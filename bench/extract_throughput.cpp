@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_arguments.h"
 #include "error.h"
 #include "in_memory_extract.h"
 #include "mesh_job.h"
@@ -45,21 +46,12 @@ double extract_end_to_end(const PaperDataset& dataset, EngineKind kind, const st
 int main(int argc, char** argv) {
   using namespace mvox;
   using namespace mvox::bench;
-  std::string root = MVOX_SHARED_DATASETS;
-  std::string scratch = std::filesystem::temp_directory_path().string();
-  int runs = 5;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--datasets"))
-      root = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--runs"))
-      runs = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--scratch"))
-      scratch = argv[i + 1];
-    else {
-      std::fprintf(stderr, "usage: %s [--datasets DIR] [--runs N] [--scratch DIR]\n", argv[0]);
-      return 2;
-    }
-  }
+  BenchArguments arguments;
+  if (!parse_bench_arguments(argc, argv, MVOX_SHARED_DATASETS, {"--scratch"}, &arguments)) return 2;
+  const std::string root = arguments.datasets;
+  const std::string scratch =
+      arguments.value("--scratch", std::filesystem::temp_directory_path().string());
+  const int runs = arguments.runs;
   try {
     const std::vector<PaperDataset> datasets = paper_datasets(root);
     if (datasets.empty()) {

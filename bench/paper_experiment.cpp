@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "bar_chart.h"
+#include "bench_arguments.h"
 #include "mesh_job.h"
 #include "mvox/camera.h"
 #include "mvox/engine.h"
@@ -246,22 +247,10 @@ void print_random_volumes() {
 int main(int argc, char** argv) {
   using namespace mvox;
   using namespace mvox::bench;
-  std::string root = MVOX_SHARED_DATASETS;
-  std::string chart;
-  int runs = 5;
-  for (int i = 1; i < argc; i += 2) {
-    const bool has_value = i + 1 < argc;
-    if (has_value && !std::strcmp(argv[i], "--datasets")) {
-      root = argv[i + 1];
-    } else if (has_value && !std::strcmp(argv[i], "--runs")) {
-      runs = std::max(1, std::atoi(argv[i + 1]));
-    } else if (has_value && !std::strcmp(argv[i], "--chart")) {
-      chart = argv[i + 1];
-    } else {
-      std::fprintf(stderr, "usage: %s [--datasets DIR] [--runs N] [--chart FILE.png]\n", argv[0]);
-      return 2;
-    }
-  }
+  BenchArguments arguments;
+  if (!parse_bench_arguments(argc, argv, MVOX_SHARED_DATASETS, {"--chart"}, &arguments)) return 2;
+  const std::string root = arguments.datasets, chart = arguments.value("--chart");
+  const int runs = arguments.runs;
   try {
     const std::vector<PaperDataset> datasets = paper_datasets(root);
     if (datasets.empty()) {

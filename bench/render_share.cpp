@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_arguments.h"
 #include "counting_sink.h"
 #include "mesh_job.h"
 #include "mvox/camera.h"
@@ -274,27 +275,13 @@ void print_end_to_end(const std::vector<EndToEnd>& rows) {
 int main(int argc, char** argv) {
   using namespace mvox;
   using namespace mvox::bench;
-  std::string root = MVOX_SHARED_DATASETS;
-  std::string only;
-  std::string image_folder;
-  int runs = 5;
-  for (int i = 1; i < argc; i += 2) {
-    const bool has_value = i + 1 < argc;
-    if (has_value && !std::strcmp(argv[i], "--datasets")) {
-      root = argv[i + 1];
-    } else if (has_value && !std::strcmp(argv[i], "--runs")) {
-      runs = std::max(1, std::atoi(argv[i + 1]));
-    } else if (has_value && !std::strcmp(argv[i], "--dataset")) {
-      only = argv[i + 1];
-    } else if (has_value && !std::strcmp(argv[i], "--save-images")) {
-      image_folder = argv[i + 1];
-    } else {
-      std::fprintf(stderr,
-                   "usage: %s [--datasets DIR] [--runs N] [--dataset NAME] [--save-images DIR]\n",
-                   argv[0]);
-      return 2;
-    }
-  }
+  BenchArguments arguments;
+  if (!parse_bench_arguments(argc, argv, MVOX_SHARED_DATASETS, {"--dataset", "--save-images"},
+                             &arguments))
+    return 2;
+  const std::string root = arguments.datasets, only = arguments.value("--dataset");
+  const std::string image_folder = arguments.value("--save-images");
+  const int runs = arguments.runs;
   try {
     std::vector<PaperDataset> datasets = paper_datasets(root);
     if (!only.empty())
