@@ -620,11 +620,11 @@ bool emit_layer_cubes_as(const EngineState& st, int lo, int hi, std::uint32_t z,
                          std::uint32_t height, Emitter& emitter) {
   const MarchingCubesTable& table = marching_cubes_table();
   const bool by_value = emitter.next_geometry() != nullptr;
+  Vertex placed[cube::kEdges];  // the current cube's vertices by value, by cube edge
   return for_each_surface_cube(
       st, lo, hi, height,
       [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
         const MarchingCubesCase& triangles = table.cases[config];
-        Vertex placed[cube::kEdges];
         if (by_value) {
           const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
           const float z0 = static_cast<float>(z) - 1.0f;
