@@ -284,6 +284,18 @@ class Emitter {
     return polygon_fill_ < polygon_capacity_ || flush_polygons();
   }
 
+  // For a caller that fills the polygon batch itself, keeping the fill and the counts by size in
+  // its own locals (emit_layer_fast): the batch, its capacity and its fill so far...
+  Polygon* polygon_batch() const { return polygons_; }
+  std::uint32_t polygon_capacity() const { return polygon_capacity_; }
+  std::uint32_t polygon_fill() const { return polygon_fill_; }
+  // ... then its fill and the polygons it added, by size, when it is done or the batch is full.
+  void add_polygons(std::uint32_t fill, const std::uint64_t (&by_size)[kMaxPolygonVertices + 1]) {
+    polygon_fill_ = fill;
+    for (int size = 0; size <= kMaxPolygonVertices; ++size)
+      polygons_by_size_[size] += by_size[size];
+  }
+
   bool flush_vertices() {
     if (vertex_fill_ == 0) return true;
     const Status s = state_.sink->consume_vertices(vertices_, vertex_fill_);
@@ -546,9 +558,14 @@ constexpr StreamAdvanceTable kStreamAdvance = build_stream_advance_table();
 // vertex in it belongs to a cube that cuts e, which is active and visited. So the vertex of a
 // cube's edge e is the next one of stream e: a running count, advanced past each cube's cut
 // edges. (Columns the walk skips, 0 of y- and z-edges, and row -1, hold no vertex.)
+//
+// Always inlined (each action has one caller, so no code is duplicated): the action's state then
+// stays in its caller's locals, which the compiler keeps in registers; behind a call they would be
+// memory that every store into a batch might change.
 template <typename CubeAction>
-bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t height,
-                           CubeAction&& action) {
+__attribute__((always_inline)) inline bool for_each_surface_cube(const EngineState& st, int lo,
+                                                                 int hi, std::uint32_t height,
+                                                                 CubeAction&& action) {
   std::uint32_t next[cube::kEdges];
   for (int e = 0; e < 4; ++e) {
     next[e] = st.x_edges[e < 2 ? lo : hi].base;
@@ -592,24 +609,47 @@ bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t 
 
 // PASS 3, fast: each active cube's configuration looked up in the case table, its polygons
 // copied from the case's fixed-size records.
+//
+// The batch's fill and the counts by polygon size are locals here, handed to the emitter only
+// when the batch is full or the layer done. A polygon's vertex_count is a byte store, which the
+// compiler must assume may change any object whose address has escaped, as the emitter's has
+// (into emit_cube): through the emitter's members, the fill, the batch pointer and the counts
+// were reloaded and stored again for every polygon.
 bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
                      Emitter& emitter) {
-  return for_each_surface_cube(
-      st, lo, hi, height,
-      [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
-        if (emitter.next_geometry())  // polygons by value too: the general path
+  if (emitter.next_geometry())  // polygons by value too: the general path
+    return for_each_surface_cube(
+        st, lo, hi, height,
+        [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
           return emit_cube(cx, cy, z, config, st.table->cases[config], edge_index, emitter);
-        const CaseRecords& records = st.table->records[config];
-        for (int p = 0; p < records.polygon_count; ++p) {
-          const PolygonRecord& record = records.polygons[p];
-          Polygon& out = emitter.next_polygon();
+        });
+  const CaseRecords* const records = st.table->records;
+  Polygon* const batch = emitter.polygon_batch();
+  const std::uint32_t capacity = emitter.polygon_capacity();
+  std::uint32_t fill = emitter.polygon_fill();
+  std::uint64_t by_size[kMaxPolygonVertices + 1] = {};
+  const bool ok = for_each_surface_cube(
+      st, lo, hi, height,
+      [&](std::uint32_t, std::uint32_t, unsigned config, const std::uint32_t* edge_index) {
+        const CaseRecords& cube = records[config];
+        for (int p = 0; p < cube.polygon_count; ++p) {
+          const PolygonRecord& record = cube.polygons[p];
+          Polygon& out = batch[fill];
           out.vertex_count = record.vertex_count;
           for (int i = 0; i < kMaxPolygonVertices; ++i)
             out.vertices[i] = edge_index[record.edges[i]];
-          if (!emitter.commit_polygon()) return false;
+          ++by_size[record.vertex_count];
+          if (++fill == capacity) {
+            emitter.add_polygons(fill, by_size);
+            fill = 0;
+            for (std::uint64_t& count : by_size) count = 0;
+            if (!emitter.flush_polygons()) return false;
+          }
         }
         return true;
       });
+  emitter.add_polygons(fill, by_size);
+  return ok;
 }
 
 // PASS 3, marching cubes: each surface cube's triangles from Lorensen and Cline's table. With
