@@ -11,6 +11,7 @@
 // Slices -1 and D (one past the last) are all outer, so every surface closes.
 #include "mvox/engine.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <new>
@@ -274,6 +275,22 @@ class Emitter {
     return vertex_fill_ < vertex_capacity_ || flush_vertices();
   }
 
+  // Where the caller may write up to `count` vertices itself, then hand them over with
+  // commit_vertices(): null unless the batch has room for all of them and the index space too
+  // (so no vertex among them needs vertex()'s checks) and vertices stay at the midpoints.
+  Vertex* reserve_vertices(std::uint32_t count) const {
+    const bool room = vertex_capacity_ - vertex_fill_ >= count &&
+                      kMaxVertexCount - vertex_count_ >= count && !interpolation_;
+    return room ? vertices_ + vertex_fill_ : nullptr;
+  }
+
+  // The `count` vertices written at reserve_vertices(); flushes a full batch as vertex() does.
+  bool commit_vertices(std::uint32_t count) {
+    vertex_fill_ += count;
+    vertex_count_ += count;
+    return vertex_fill_ < vertex_capacity_ || flush_vertices();
+  }
+
   Polygon& next_polygon() { return polygons_[polygon_fill_]; }
   // Null unless the options ask for polygons by value.
   PolygonGeometry* next_geometry() { return geometry_ ? &geometry_[polygon_fill_] : nullptr; }
@@ -349,6 +366,34 @@ struct EdgeRows {
   bool occupied;               // false when both rows are all outer: no edge has a vertex
 };
 
+// The last eight bytes of a vertex (z, axis, inner_is_lower and the padding) of one plane row, for
+// either value of inner_is_lower: PASS 2 stores them with one 8-byte copy instead of three
+// stores, one of them a read-modify-write of a bool's byte.
+class VertexTails {
+ public:
+  VertexTails(float z, Axis axis) {
+    for (int inner = 0; inner < 2; ++inner) {
+      unsigned char bytes[8] = {};  // the padding too: zero whichever path wrote the vertex
+      const bool inner_is_lower = inner != 0;
+      std::memcpy(bytes, &z, sizeof z);
+      std::memcpy(bytes + offsetof(Vertex, axis) - kOffset, &axis, sizeof axis);
+      std::memcpy(bytes + offsetof(Vertex, inner_is_lower) - kOffset, &inner_is_lower,
+                  sizeof inner_is_lower);
+      std::memcpy(&tails_[inner], bytes, 8);
+    }
+  }
+
+  void store(Vertex* v, std::uint64_t inner_is_lower) const {
+    std::memcpy(reinterpret_cast<unsigned char*>(v) + kOffset, &tails_[inner_is_lower], 8);
+  }
+
+ private:
+  static constexpr std::size_t kOffset = offsetof(Vertex, z);
+  static_assert(sizeof(Vertex) == kOffset + 8 && offsetof(Vertex, inner_is_lower) < sizeof(Vertex),
+                "z, axis and inner_is_lower fill a vertex's last eight bytes");
+  std::uint64_t tails_[2];
+};
+
 // PASS 2 for one plane: a vertex for every edge whose two voxels differ, row by row in increasing
 // column, numbered from `first_index`. `rows_of(r)` gives the plane's row r as EdgeRows. Fills
 // the plane's bits and prefix counts when it has them (the literal engine's rank queries).
@@ -370,6 +415,7 @@ bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
       continue;
     }
     const float y = static_cast<float>(r) + geometry.dy;
+    const VertexTails tails(vertex_z, geometry.axis);
     for (std::uint32_t w = 0; w < words; ++w) {
       const std::uint64_t lower = rows.lower[w];
       const std::uint64_t upper =
@@ -378,6 +424,21 @@ bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
       if (plane.bits) {
         plane.bits[r * words + w] = edges;
         plane.prefix[r * words + w] = count;
+      }
+      if (!edges) continue;
+      if (Vertex* const first = emitter.reserve_vertices(64)) {
+        // The common case: the whole word's vertices written in place, with no test between.
+        Vertex* out = first;
+        for (; edges; edges &= edges - 1, ++out) {
+          const int bit = lowest_set_bit(edges);
+          out->x = static_cast<float>(w * 64 + static_cast<std::uint32_t>(bit)) + geometry.dx;
+          out->y = y;
+          tails.store(out, lower >> bit & 1);
+        }
+        const std::uint32_t written = static_cast<std::uint32_t>(out - first);
+        count += written;
+        if (!emitter.commit_vertices(written)) return false;
+        continue;
       }
       for (; edges; edges &= edges - 1) {
         const int bit = lowest_set_bit(edges);
