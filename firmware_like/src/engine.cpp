@@ -11,6 +11,7 @@
 // Slices -1 and D (one past the last) are all outer, so every surface closes.
 #include "mvox/engine.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <new>
@@ -274,6 +275,22 @@ class Emitter {
     return vertex_fill_ < vertex_capacity_ || flush_vertices();
   }
 
+  // Where the caller may write up to `count` vertices itself, then hand them over with
+  // commit_vertices(): null unless the batch has room for all of them and the index space too
+  // (so no vertex among them needs vertex()'s checks) and vertices stay at the midpoints.
+  Vertex* reserve_vertices(std::uint32_t count) const {
+    const bool room = vertex_capacity_ - vertex_fill_ >= count &&
+                      kMaxVertexCount - vertex_count_ >= count && !interpolation_;
+    return room ? vertices_ + vertex_fill_ : nullptr;
+  }
+
+  // The `count` vertices written at reserve_vertices(); flushes a full batch as vertex() does.
+  bool commit_vertices(std::uint32_t count) {
+    vertex_fill_ += count;
+    vertex_count_ += count;
+    return vertex_fill_ < vertex_capacity_ || flush_vertices();
+  }
+
   Polygon& next_polygon() { return polygons_[polygon_fill_]; }
   // Null unless the options ask for polygons by value.
   PolygonGeometry* next_geometry() { return geometry_ ? &geometry_[polygon_fill_] : nullptr; }
@@ -282,6 +299,18 @@ class Emitter {
     const Polygon& p = polygons_[polygon_fill_++];
     ++polygons_by_size_[p.vertex_count];
     return polygon_fill_ < polygon_capacity_ || flush_polygons();
+  }
+
+  // For a caller that fills the polygon batch itself, keeping the fill and the counts by size in
+  // its own locals (emit_layer_fast): the batch, its capacity and its fill so far...
+  Polygon* polygon_batch() const { return polygons_; }
+  std::uint32_t polygon_capacity() const { return polygon_capacity_; }
+  std::uint32_t polygon_fill() const { return polygon_fill_; }
+  // ... then its fill and the polygons it added, by size, when it is done or the batch is full.
+  void add_polygons(std::uint32_t fill, const std::uint64_t (&by_size)[kMaxPolygonVertices + 1]) {
+    polygon_fill_ = fill;
+    for (int size = 0; size <= kMaxPolygonVertices; ++size)
+      polygons_by_size_[size] += by_size[size];
   }
 
   bool flush_vertices() {
@@ -337,6 +366,34 @@ struct EdgeRows {
   bool occupied;               // false when both rows are all outer: no edge has a vertex
 };
 
+// The last eight bytes of a vertex (z, axis, inner_is_lower and the padding) of one plane row, for
+// either value of inner_is_lower: PASS 2 stores them with one 8-byte copy instead of three
+// stores, one of them a read-modify-write of a bool's byte.
+class VertexTails {
+ public:
+  VertexTails(float z, Axis axis) {
+    for (int inner = 0; inner < 2; ++inner) {
+      unsigned char bytes[8] = {};  // the padding too: zero whichever path wrote the vertex
+      const bool inner_is_lower = inner != 0;
+      std::memcpy(bytes, &z, sizeof z);
+      std::memcpy(bytes + offsetof(Vertex, axis) - kOffset, &axis, sizeof axis);
+      std::memcpy(bytes + offsetof(Vertex, inner_is_lower) - kOffset, &inner_is_lower,
+                  sizeof inner_is_lower);
+      std::memcpy(&tails_[inner], bytes, 8);
+    }
+  }
+
+  void store(Vertex* v, std::uint64_t inner_is_lower) const {
+    std::memcpy(reinterpret_cast<unsigned char*>(v) + kOffset, &tails_[inner_is_lower], 8);
+  }
+
+ private:
+  static constexpr std::size_t kOffset = offsetof(Vertex, z);
+  static_assert(sizeof(Vertex) == kOffset + 8 && offsetof(Vertex, inner_is_lower) < sizeof(Vertex),
+                "z, axis and inner_is_lower fill a vertex's last eight bytes");
+  std::uint64_t tails_[2];
+};
+
 // PASS 2 for one plane: a vertex for every edge whose two voxels differ, row by row in increasing
 // column, numbered from `first_index`. `rows_of(r)` gives the plane's row r as EdgeRows. Fills
 // the plane's bits and prefix counts when it has them (the literal engine's rank queries).
@@ -358,6 +415,7 @@ bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
       continue;
     }
     const float y = static_cast<float>(r) + geometry.dy;
+    const VertexTails tails(vertex_z, geometry.axis);
     for (std::uint32_t w = 0; w < words; ++w) {
       const std::uint64_t lower = rows.lower[w];
       const std::uint64_t upper =
@@ -366,6 +424,21 @@ bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
       if (plane.bits) {
         plane.bits[r * words + w] = edges;
         plane.prefix[r * words + w] = count;
+      }
+      if (!edges) continue;
+      if (Vertex* const first = emitter.reserve_vertices(64)) {
+        // The common case: the whole word's vertices written in place, with no test between.
+        Vertex* out = first;
+        for (; edges; edges &= edges - 1, ++out) {
+          const int bit = lowest_set_bit(edges);
+          out->x = static_cast<float>(w * 64 + static_cast<std::uint32_t>(bit)) + geometry.dx;
+          out->y = y;
+          tails.store(out, lower >> bit & 1);
+        }
+        const std::uint32_t written = static_cast<std::uint32_t>(out - first);
+        count += written;
+        if (!emitter.commit_vertices(written)) return false;
+        continue;
       }
       for (; edges; edges &= edges - 1) {
         const int bit = lowest_set_bit(edges);
@@ -546,9 +619,14 @@ constexpr StreamAdvanceTable kStreamAdvance = build_stream_advance_table();
 // vertex in it belongs to a cube that cuts e, which is active and visited. So the vertex of a
 // cube's edge e is the next one of stream e: a running count, advanced past each cube's cut
 // edges. (Columns the walk skips, 0 of y- and z-edges, and row -1, hold no vertex.)
+//
+// Always inlined (each action has one caller, so no code is duplicated): the action's state then
+// stays in its caller's locals, which the compiler keeps in registers; behind a call they would be
+// memory that every store into a batch might change.
 template <typename CubeAction>
-bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t height,
-                           CubeAction&& action) {
+__attribute__((always_inline)) inline bool for_each_surface_cube(const EngineState& st, int lo,
+                                                                 int hi, std::uint32_t height,
+                                                                 CubeAction&& action) {
   std::uint32_t next[cube::kEdges];
   for (int e = 0; e < 4; ++e) {
     next[e] = st.x_edges[e < 2 ? lo : hi].base;
@@ -592,24 +670,47 @@ bool for_each_surface_cube(const EngineState& st, int lo, int hi, std::uint32_t 
 
 // PASS 3, fast: each active cube's configuration looked up in the case table, its polygons
 // copied from the case's fixed-size records.
+//
+// The batch's fill and the counts by polygon size are locals here, handed to the emitter only
+// when the batch is full or the layer done. A polygon's vertex_count is a byte store, which the
+// compiler must assume may change any object whose address has escaped, as the emitter's has
+// (into emit_cube): through the emitter's members, the fill, the batch pointer and the counts
+// were reloaded and stored again for every polygon.
 bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
                      Emitter& emitter) {
-  return for_each_surface_cube(
-      st, lo, hi, height,
-      [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
-        if (emitter.next_geometry())  // polygons by value too: the general path
+  if (emitter.next_geometry())  // polygons by value too: the general path
+    return for_each_surface_cube(
+        st, lo, hi, height,
+        [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
           return emit_cube(cx, cy, z, config, st.table->cases[config], edge_index, emitter);
-        const CaseRecords& records = st.table->records[config];
-        for (int p = 0; p < records.polygon_count; ++p) {
-          const PolygonRecord& record = records.polygons[p];
-          Polygon& out = emitter.next_polygon();
+        });
+  const CaseRecords* const records = st.table->records;
+  Polygon* const batch = emitter.polygon_batch();
+  const std::uint32_t capacity = emitter.polygon_capacity();
+  std::uint32_t fill = emitter.polygon_fill();
+  std::uint64_t by_size[kMaxPolygonVertices + 1] = {};
+  const bool ok = for_each_surface_cube(
+      st, lo, hi, height,
+      [&](std::uint32_t, std::uint32_t, unsigned config, const std::uint32_t* edge_index) {
+        const CaseRecords& cube = records[config];
+        for (int p = 0; p < cube.polygon_count; ++p) {
+          const PolygonRecord& record = cube.polygons[p];
+          Polygon& out = batch[fill];
           out.vertex_count = record.vertex_count;
           for (int i = 0; i < kMaxPolygonVertices; ++i)
             out.vertices[i] = edge_index[record.edges[i]];
-          if (!emitter.commit_polygon()) return false;
+          ++by_size[record.vertex_count];
+          if (++fill == capacity) {
+            emitter.add_polygons(fill, by_size);
+            fill = 0;
+            for (std::uint64_t& count : by_size) count = 0;
+            if (!emitter.flush_polygons()) return false;
+          }
         }
         return true;
       });
+  emitter.add_polygons(fill, by_size);
+  return ok;
 }
 
 // PASS 3, marching cubes: each surface cube's triangles from Lorensen and Cline's table. With
