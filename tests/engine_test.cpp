@@ -537,6 +537,92 @@ TEST(EngineGeometry, ASinkRefusingGeometryStopsTheEngine) {
   EXPECT_EQ(sink.mismatches, 0u);
 }
 
+// ---------------------------------------------------------------------------------------------
+// The hot loops chosen for this CPU (AVX2 on x86-64 that has it, cpu_features.h) against the
+// baseline ones any CPU runs (detail::use_baseline_loops): byte for byte the same batches.
+
+// Every batch as the sink received it: its size, and each vertex's and polygon's fields.
+class BatchRecorder final : public PolygonSink {
+ public:
+  Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
+    batches.push_back(vertex_count);
+    for (std::size_t i = 0; i < vertex_count; ++i) {
+      const Vertex& v = vertices[i];
+      append(&v.x, sizeof v.x);
+      append(&v.y, sizeof v.y);
+      append(&v.z, sizeof v.z);
+      append(&v.axis, sizeof v.axis);
+      append(&v.inner_is_lower, sizeof v.inner_is_lower);
+    }
+    return Status::ok;
+  }
+  Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
+    batches.push_back(~polygon_count);  // told apart from vertex batches
+    for (std::size_t i = 0; i < polygon_count; ++i) {
+      append(&polygons[i].vertex_count, 1);
+      append(polygons[i].vertices, polygons[i].vertex_count * sizeof(std::uint32_t));
+    }
+    return Status::ok;
+  }
+  std::vector<std::size_t> batches;
+  std::vector<unsigned char> bytes;
+
+ private:
+  void append(const void* data, std::size_t size) {
+    const auto* begin = static_cast<const unsigned char*>(data);
+    bytes.insert(bytes.end(), begin, begin + size);
+  }
+};
+
+BatchRecorder record_batches(const BinaryVolume& volume, const EngineOptions& options,
+                             bool baseline) {
+  BatchRecorder sink;
+  Workspace workspace(engine_workspace_bytes(volume.width, volume.height, options));
+  Engine engine;
+  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height, 1,
+                        options, &sink),
+            Status::ok);
+  if (baseline) detail::use_baseline_loops(engine);
+  for (std::uint32_t z = 0; z < volume.depth; ++z)
+    EXPECT_EQ(engine.push_slice(slice_of(volume, z)), Status::ok);
+  EXPECT_EQ(engine.finish(), Status::ok);
+  return sink;
+}
+
+void expect_same_batches_on_both_paths(const BinaryVolume& volume, const std::string& label) {
+  EngineOptions tiny;
+  tiny.vertices_per_batch = 7;
+  tiny.polygons_per_batch = 5;
+  EngineOptions table1;
+  table1.rule = SurfaceRule::paper_table1;
+  EngineOptions cubes;
+  cubes.method = SurfaceMethod::cubes;
+  for (const EngineOptions& options : {EngineOptions(), tiny, table1, cubes}) {
+    const BatchRecorder chosen = record_batches(volume, options, false);
+    const BatchRecorder baseline = record_batches(volume, options, true);
+    EXPECT_FALSE(baseline.bytes.empty()) << label;
+    EXPECT_EQ(chosen.batches, baseline.batches) << label;
+    EXPECT_TRUE(chosen.bytes == baseline.bytes) << label;
+  }
+}
+
+TEST(EngineDispatch, TheLoopsChosenForThisCpuGiveTheBaselineBatches) {
+  std::uint32_t seed = 100;
+  for (std::uint32_t width : {1u, 62u, 63u, 64u, 65u, 130u, 200u})
+    for (int density : {30, 128, 230}) {
+      auto noise = noise_volume(width, 9, 7, seed++);
+      for (auto& sample : noise.samples) sample = sample < density;
+      expect_same_batches_on_both_paths(
+          noise, "noise " + std::to_string(width) + " density " + std::to_string(density));
+    }
+  const char* names[] = {"sphere", "torus", "shepp-logan", "blobs"};
+  for (const char* name : names) {
+    const auto phantom = sim::make_phantom(name, {70, 66, 20}, 3);
+    expect_same_batches_on_both_paths(classified(*phantom, sim::default_density_threshold(name)),
+                                      name);
+  }
+}
+
 TEST(EngineWorkspace, PolygonGeometryAddsOneBatchOfPolygonsByValue) {
   EXPECT_EQ(sizeof(PolygonGeometry), 116u);  // as engine.h states
   const std::uint32_t sizes[][2] = {{1, 1}, {7, 5}, {64, 3}, {513, 300}};

@@ -19,12 +19,17 @@
 #include "bit_rows.h"
 #include "case_table.h"
 #include "classify.h"
+#include "cpu_features.h"
 #include "cube.h"
 #include "edge_interpolation.h"
 #include "edge_plane.h"
 #include "literal_layers.h"
 #include "marching_cubes_table.h"
 #include "word_configs.h"
+
+#if MVOX_HAVE_AVX2_PATH
+#include <immintrin.h>
+#endif
 
 namespace mvox {
 
@@ -87,6 +92,7 @@ struct detail::EngineState {
   LiteralLayers literal;
   EdgeInterpolation interpolation;  // marching cubes only
   bool interpolate = false;
+  bool use_avx2 = false;  // run the AVX2 hot loops (cpu_features.h); decided once by init()
 
   const std::uint64_t* row(int slot, std::int64_t y, std::uint32_t height) const {
     if (y < 0 || y >= static_cast<std::int64_t>(height)) return zero_row;
@@ -155,6 +161,10 @@ std::size_t engine_workspace_bytes(std::uint32_t width, std::uint32_t height,
   return compute_layout(width, height, options, &layout) ? layout.total : 0;
 }
 
+void detail::use_baseline_loops(Engine& engine) {
+  if (engine.state_) engine.state_->use_avx2 = false;
+}
+
 Status Engine::fail(Status status) {
   failure_ = status;
   return status;
@@ -180,6 +190,7 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   state->thresholds = make_thresholds(threshold);
   state->sink = sink;
   state->table = &case_table(options.rule);
+  state->use_avx2 = cpu_has_avx2_bmi2();
   state->row_words = padded_row_words(width);
   const std::uint32_t words = state->row_words;
   // Only the literal engine stores the planes' bits and prefix counts (compute_layout).
@@ -605,12 +616,43 @@ constexpr StreamAdvanceTable build_stream_advance_table() {
 
 constexpr StreamAdvanceTable kStreamAdvance = build_stream_advance_table();
 
+// The twelve running counts of for_each_surface_cube, one per cube edge, in an array: the global
+// index of the next vertex of each edge's stream.
+class EdgeStreams {
+ public:
+  EdgeStreams(const EngineState& st, int lo, int hi) {
+    for (int e = 0; e < 4; ++e) {
+      next_[e] = st.x_edges[e < 2 ? lo : hi].base;
+      next_[4 + e] = st.y_edges[e < 2 ? lo : hi].base;
+      next_[8 + e] = st.z_edges.base;
+    }
+  }
+
+  // By cube edge: the index of the vertex on each edge the current cube cuts.
+  const std::uint32_t* indices() const { return next_; }
+
+  // Past a cube of configuration `config`.
+  void advance(unsigned config) {
+    const std::uint32_t* advance = kStreamAdvance.advance[config];
+    for (int e = 0; e < cube::kEdges; ++e) next_[e] += advance[e];
+  }
+
+  // `record` of the current cube into `out`: seven loads and stores, no loop over its size.
+  void copy_polygon(const PolygonRecord& record, Polygon& out) const {
+    out.vertex_count = record.vertex_count;
+    for (int i = 0; i < kMaxPolygonVertices; ++i) out.vertices[i] = next_[record.edges[i]];
+  }
+
+ private:
+  std::uint32_t next_[cube::kEdges];
+};
+
 // PASS 3's walk over the cubes of the layer between slot `lo` and slot `hi`, row by row, in
 // increasing x. It visits only cubes whose eight voxels are not all alike (computational
 // trimming after Flying Edges), a word of 64 cubes at a time, and calls
-// `action(cx, cy, config, edge_index)` for each; `edge_index[e]` is the global index of the
-// vertex on cube edge e (cube.h) for every edge that `config` cuts. Stops when `action` returns
-// false.
+// `action(cx, cy, config, streams)` for each, then `streams.advance(config)`; `streams` (an
+// EdgeStreams or EdgeStreamsAvx2) holds the global index of the vertex on cube edge e (cube.h)
+// for every edge that `config` cuts. Stops when `action` returns false.
 //
 // The indices come without a rank query. Each cube edge e reads one stream of PASS 2's vertices:
 // edge 0 of cube (cx, cy) is the x-edge at column cx of row cy - 1 of the lower slice, edge 5
@@ -623,16 +665,11 @@ constexpr StreamAdvanceTable kStreamAdvance = build_stream_advance_table();
 // Always inlined (each action has one caller, so no code is duplicated): the action's state then
 // stays in its caller's locals, which the compiler keeps in registers; behind a call they would be
 // memory that every store into a batch might change.
-template <typename CubeAction>
+template <typename Streams, typename CubeAction>
 __attribute__((always_inline)) inline bool for_each_surface_cube(const EngineState& st, int lo,
                                                                  int hi, std::uint32_t height,
+                                                                 Streams& streams,
                                                                  CubeAction&& action) {
-  std::uint32_t next[cube::kEdges];
-  for (int e = 0; e < 4; ++e) {
-    next[e] = st.x_edges[e < 2 ? lo : hi].base;
-    next[4 + e] = st.y_edges[e < 2 ? lo : hi].base;
-    next[8 + e] = st.z_edges.base;
-  }
   const std::uint32_t words = st.row_words;
   for (std::uint32_t cy = 0; cy <= height; ++cy) {
     // Computational trimming: four all-outer rows hold no active cube and no vertex, so every
@@ -659,46 +696,91 @@ __attribute__((always_inline)) inline bool for_each_surface_cube(const EngineSta
         const int bit = lowest_set_bit(active);
         const unsigned config = configs[bit];
         const std::uint32_t cx = w * 64 + static_cast<std::uint32_t>(bit);
-        if (!action(cx, cy, config, static_cast<const std::uint32_t*>(next))) return false;
-        const std::uint32_t* advance = kStreamAdvance.advance[config];
-        for (int e = 0; e < cube::kEdges; ++e) next[e] += advance[e];
+        if (!action(cx, cy, config, static_cast<const Streams&>(streams))) return false;
+        streams.advance(config);
       }
     }
   }
   return true;
 }
 
-// PASS 3, fast: each active cube's configuration looked up in the case table, its polygons
-// copied from the case's fixed-size records.
+#if MVOX_HAVE_AVX2_PATH
+
+// The twelve running counts of for_each_surface_cube in two AVX2 registers (edges 0-7, and
+// 8-11 in the low half of the second), so that a polygon's seven indices are gathered from them
+// by two lane permutations instead of seven loads and stores.
+class EdgeStreamsAvx2 {
+ public:
+  MVOX_AVX2_HELPER EdgeStreamsAvx2(const EdgeStreams& start)
+      : edges0to7_(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(start.indices()))),
+        edges8to11_(_mm_loadu_si128(reinterpret_cast<const __m128i*>(start.indices() + 8))) {}
+
+  MVOX_AVX2_HELPER void advance(unsigned config) {
+    const std::uint32_t* advance = kStreamAdvance.advance[config];
+    edges0to7_ =
+        _mm256_add_epi32(edges0to7_, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(advance)));
+    edges8to11_ =
+        _mm_add_epi32(edges8to11_, _mm_loadu_si128(reinterpret_cast<const __m128i*>(advance + 8)));
+  }
+
+  // `record` as the 32 bytes of a Polygon: its vertex_count (with zero padding), then the index
+  // of the vertex on each of its seven edges. Lane i of the record widened to 32 bits is edge i
+  // (lane 0 the count); its low three bits pick the lane of either register, bit 3 the register.
+  MVOX_AVX2_HELPER __m256i polygon(const PolygonRecord& record) const {
+    const __m256i lanes =
+        _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&record)));
+    const __m256i low = _mm256_permutevar8x32_epi32(edges0to7_, lanes);
+    // Lanes 4-7 of the high register are never picked: edges 8-11 have low bits 0-3.
+    const __m256i high = _mm256_permutevar8x32_epi32(_mm256_castsi128_si256(edges8to11_), lanes);
+    const __m256 from_high = _mm256_castsi256_ps(_mm256_slli_epi32(lanes, 28));  // bit 3 to sign
+    const __m256i indices = _mm256_castps_si256(
+        _mm256_blendv_ps(_mm256_castsi256_ps(low), _mm256_castsi256_ps(high), from_high));
+    return _mm256_blend_epi32(indices, lanes, 1);  // lane 0: the vertex count
+  }
+
+  // The same polygon as EdgeStreams::copy_polygon gives, in one store (the padding after the
+  // count is zero).
+  MVOX_AVX2_HELPER void copy_polygon(const PolygonRecord& record, Polygon& out) const {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(&out), polygon(record));
+  }
+
+ private:
+  __m256i edges0to7_;
+  __m128i edges8to11_;
+};
+
+static_assert(sizeof(PolygonRecord) == 8 && offsetof(PolygonRecord, edges) == 1,
+              "a polygon record is its count and seven edges, one byte each");
+static_assert(sizeof(Polygon) == 32 && offsetof(Polygon, vertices) == 4 &&
+                  sizeof(Polygon::vertex_count) == 1,
+              "a polygon is its count in 4 bytes, then seven 32-bit indices");
+
+#endif
+
+// PASS 3, fast, for polygons by index only: each active cube's polygons copied from the case's
+// fixed-size records (`streams` as for_each_surface_cube's).
 //
 // The batch's fill and the counts by polygon size are locals here, handed to the emitter only
 // when the batch is full or the layer done. A polygon's vertex_count is a byte store, which the
 // compiler must assume may change any object whose address has escaped, as the emitter's has
 // (into emit_cube): through the emitter's members, the fill, the batch pointer and the counts
 // were reloaded and stored again for every polygon.
-bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
-                     Emitter& emitter) {
-  if (emitter.next_geometry())  // polygons by value too: the general path
-    return for_each_surface_cube(
-        st, lo, hi, height,
-        [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
-          return emit_cube(cx, cy, z, config, st.table->cases[config], edge_index, emitter);
-        });
+template <typename Streams>
+__attribute__((always_inline)) inline bool emit_layer_records(const EngineState& st, int lo, int hi,
+                                                              std::uint32_t height,
+                                                              Streams& streams, Emitter& emitter) {
   const CaseRecords* const records = st.table->records;
   Polygon* const batch = emitter.polygon_batch();
   const std::uint32_t capacity = emitter.polygon_capacity();
   std::uint32_t fill = emitter.polygon_fill();
   std::uint64_t by_size[kMaxPolygonVertices + 1] = {};
   const bool ok = for_each_surface_cube(
-      st, lo, hi, height,
-      [&](std::uint32_t, std::uint32_t, unsigned config, const std::uint32_t* edge_index) {
+      st, lo, hi, height, streams,
+      [&](std::uint32_t, std::uint32_t, unsigned config, const Streams& indices) {
         const CaseRecords& cube = records[config];
         for (int p = 0; p < cube.polygon_count; ++p) {
           const PolygonRecord& record = cube.polygons[p];
-          Polygon& out = batch[fill];
-          out.vertex_count = record.vertex_count;
-          for (int i = 0; i < kMaxPolygonVertices; ++i)
-            out.vertices[i] = edge_index[record.edges[i]];
+          indices.copy_polygon(record, batch[fill]);
           ++by_size[record.vertex_count];
           if (++fill == capacity) {
             emitter.add_polygons(fill, by_size);
@@ -713,6 +795,32 @@ bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std
   return ok;
 }
 
+#if MVOX_HAVE_AVX2_PATH
+// emit_layer_records with the running counts in AVX2 registers, compiled for AVX2: the same
+// polygons in the same order.
+MVOX_TARGET_AVX2 bool emit_layer_records_avx2(const EngineState& st, int lo, int hi,
+                                              std::uint32_t height, Emitter& emitter) {
+  EdgeStreamsAvx2 streams{EdgeStreams(st, lo, hi)};
+  return emit_layer_records(st, lo, hi, height, streams, emitter);
+}
+#endif
+
+// PASS 3, fast: each active cube's configuration looked up in the case table.
+bool emit_layer_fast(const EngineState& st, int lo, int hi, std::uint32_t z, std::uint32_t height,
+                     Emitter& emitter) {
+  EdgeStreams streams(st, lo, hi);
+  if (emitter.next_geometry())  // polygons by value too: the general path
+    return for_each_surface_cube(
+        st, lo, hi, height, streams,
+        [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const EdgeStreams& indices) {
+          return emit_cube(cx, cy, z, config, st.table->cases[config], indices.indices(), emitter);
+        });
+#if MVOX_HAVE_AVX2_PATH
+  if (st.use_avx2) return emit_layer_records_avx2(st, lo, hi, height, emitter);
+#endif
+  return emit_layer_records(st, lo, hi, height, streams, emitter);
+}
+
 // PASS 3, marching cubes: each surface cube's triangles from Lorensen and Cline's table. With
 // polygons by value, each cut edge's vertex is placed once per cube (as PASS 2 placed it), with
 // the sample type fixed for the whole layer.
@@ -722,9 +830,11 @@ bool emit_layer_cubes_as(const EngineState& st, int lo, int hi, std::uint32_t z,
   const MarchingCubesTable& table = marching_cubes_table();
   const bool by_value = emitter.next_geometry() != nullptr;
   Vertex placed[cube::kEdges];  // the current cube's vertices by value, by cube edge
+  EdgeStreams streams(st, lo, hi);
   return for_each_surface_cube(
-      st, lo, hi, height,
-      [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const std::uint32_t* edge_index) {
+      st, lo, hi, height, streams,
+      [&](std::uint32_t cx, std::uint32_t cy, unsigned config, const EdgeStreams& indices) {
+        const std::uint32_t* edge_index = indices.indices();
         const MarchingCubesCase& triangles = table.cases[config];
         if (by_value) {
           const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;

@@ -18,9 +18,16 @@
 
 namespace mvox {
 
+class Engine;
+
 namespace detail {
 struct EngineState;  // pointers into the workspace, defined in engine.cpp
-}
+
+// For tests: makes `engine`, after init(), run the hot loops that any CPU runs instead of those
+// init() chose for this CPU (AVX2 ones on x86-64 that has it), so that both are tested on one
+// machine. Both give identical output.
+void use_baseline_loops(Engine& engine);
+}  // namespace detail
 
 // Workspace pointers must be aligned to this: the engine's widest type is a 64-bit word.
 // malloc and new return at least this on every platform mvox targets.
@@ -115,6 +122,7 @@ class Engine {
   std::uint32_t height() const { return height_; }
 
  private:
+  friend void detail::use_baseline_loops(Engine& engine);
   Status fail(Status status);
   Status emit_layer(detail::EngineState& state, std::uint32_t z, bool real_slice);
 
