@@ -35,7 +35,9 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
   echo
   echo "Where the fast engine's time goes (perf, one thread, in memory). PASS 3 takes about half:"
   echo "walking the cubes that have a surface, 64 at a time (their configurations come from SSE2"
-  echo "bit-matrix transposes), and copying each polygon from a fixed-size record of its case."
+  echo "bit-matrix transposes), and copying each polygon from a fixed-size record of its case (on
+CPUs with AVX2, chosen at start-up, by two lane permutations of the running indices and one
+32-byte store)."
   echo "Vertex indices cost almost nothing: cubes are visited in the order PASS 2 numbered the"
   echo "vertices, so each index is a running count, and the engine stores no per-voxel index and no"
   echo "edge bits. PASS 2, writing one 16-byte vertex per cut edge, takes about 30%. PASS 1, the SSE2"
