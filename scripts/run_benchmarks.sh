@@ -55,8 +55,11 @@ CPUs with AVX2, chosen at start-up, by two lane permutations of the running indi
   echo
   echo "\`/usr/bin/python3 bench/compare_peers.py --runs $runs\` (Debian's python3-vtk9 and"
   echo "python3-skimage): every tool extracts the same surface from the same volume in the same run,"
-  echo "one thread each, extraction only, in memory. Runs of the tools are interleaved, the order"
-  echo "rotated each run, after one untimed round."
+  echo "one thread each, extraction only, in memory. Rounds of the tools are interleaved, the order"
+  echo "rotated each round, after one untimed round. In each round every in-memory tool runs three"
+  echo "times back to back and its fastest run counts (the steady state for every tool alike: a"
+  echo "fresh mvox process's first run is 10-15% slower than its third); the median over rounds is"
+  echo "reported."
   echo
   echo "- *mvox, in memory*: as above (\`mvox_bench_extract_once\`, the fast engine into a sink that"
   echo "  only counts). *mvox, end to end*: the wall time of an \`mvox extract ... -o tmp.ply\` process."
