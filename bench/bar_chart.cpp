@@ -68,7 +68,7 @@ void draw_bar_chart(const std::string& path, const std::string& title,
                   cv::FILLED);
     text(image, number(g.first, "%.0f"), {centre - bar / 2 - 4, y_of(g.first) - 6}, 0.45, true);
     text(image, number(g.second, "%.0f"), {centre + bar / 2 + 4, y_of(g.second) - 6}, 0.45, true);
-    const double saving = g.first > 0 ? (1 - g.second / g.first) * 100 : 0;
+    const double saving = (1 - g.ratio) * 100;
     text(image, g.label + "  (" + number(saving, "%.0f") + "% less)", {centre, base + 25}, 0.5,
          true);
   }

@@ -185,18 +185,36 @@ std::string ms(double seconds) {
   return text;
 }
 
+// T_v / T_c of each run pair (the two methods ran one after the other), so that the machine's
+// slow swings in load cancel; the median of these is what the tables report.
+std::vector<double> paired_ratios(const std::vector<double>& voxels,
+                                  const std::vector<double>& cubes) {
+  std::vector<double> ratios;
+  for (std::size_t i = 0; i < voxels.size() && i < cubes.size(); ++i)
+    ratios.push_back(voxels[i] / cubes[i]);
+  return ratios;
+}
+
 void print_rows(const std::vector<Row>& rows) {
   std::printf(
       "### T_c and T_v (the paper's Figure 16)\n\n"
+      "Times are medians over runs; T_v / T_c is the median of each run pair's ratio, with its "
+      "range.\n\n"
       "| dataset | T_c, marching cubes | T_v, marching voxels | T_v / T_c | improvement "
       "1 - T_v/T_c | in memory: T_c | in memory: T_v | in memory: T_v / T_c |\n"
       "|---|---|---|---|---|---|---|---|\n");
   for (const Row& row : rows) {
-    const double tc = median(row.pipeline[1]), tv = median(row.pipeline[0]);
-    const double mc = median(row.memory[1]), mv = median(row.memory[0]);
-    std::printf("| %s | %s | %s | %.2f | **%.0f%%** | %s | %s | %.2f |\n", row.name.c_str(),
-                ms(tc).c_str(), ms(tv).c_str(), tv / tc, (1 - tv / tc) * 100, ms(mc).c_str(),
-                ms(mv).c_str(), mv / mc);
+    const std::vector<double> pipeline = paired_ratios(row.pipeline[0], row.pipeline[1]);
+    const std::vector<double> memory = paired_ratios(row.memory[0], row.memory[1]);
+    const auto [pipeline_low, pipeline_high] =
+        std::minmax_element(pipeline.begin(), pipeline.end());
+    const auto [memory_low, memory_high] = std::minmax_element(memory.begin(), memory.end());
+    const double ratio = median(pipeline);
+    std::printf(
+        "| %s | %s | %s | %.2f (%.2f .. %.2f) | **%.0f%%** | %s | %s | %.2f (%.2f .. %.2f) |\n",
+        row.name.c_str(), ms(median(row.pipeline[1])).c_str(), ms(median(row.pipeline[0])).c_str(),
+        ratio, *pipeline_low, *pipeline_high, (1 - ratio) * 100, ms(median(row.memory[1])).c_str(),
+        ms(median(row.memory[0])).c_str(), median(memory), *memory_low, *memory_high);
   }
   std::printf(
       "\n### Where the pipeline's time goes (medians)\n\n"
@@ -291,7 +309,8 @@ int main(int argc, char** argv) {
     if (!chart.empty()) {
       std::vector<BarGroup> groups;
       for (const Row& row : rows)
-        groups.push_back({row.name, median(row.pipeline[1]) * 1e3, median(row.pipeline[0]) * 1e3});
+        groups.push_back({row.name, median(row.pipeline[1]) * 1e3, median(row.pipeline[0]) * 1e3,
+                          median(paired_ratios(row.pipeline[0], row.pipeline[1]))});
       draw_bar_chart(chart, "Surface rendering time (ms), read + extract + render 512x512",
                      "T_c marching cubes", "T_v marching voxels", groups);
     }
