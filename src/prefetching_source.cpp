@@ -1,0 +1,84 @@
+#include "prefetching_source.h"
+
+#include <cstring>
+
+namespace mvox {
+
+PrefetchingSource::PrefetchingSource(SliceSource& inner)
+    : inner_(inner), info_(inner.info()), reader_([this] { read_ahead(); }) {}
+
+PrefetchingSource::~PrefetchingSource() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  reader_.join();
+}
+
+void PrefetchingSource::read_ahead() {
+  for (;;) {
+    Buffer* buffer = nullptr;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [&] { return stopping_ || !buffers_[next_to_read_].filled; });
+      if (stopping_) return;
+      buffer = &buffers_[next_to_read_];
+    }
+    // The buffer is the reader's alone until it is marked filled.
+    bool more = false;
+    std::exception_ptr error;
+    try {
+      SliceView slice;
+      more = inner_.next_slice(&slice);
+      if (more) {
+        const std::size_t row_bytes = std::size_t{slice.width} * sample_bytes(slice.type);
+        buffer->bytes.resize(row_bytes * slice.height);
+        for (std::uint32_t y = 0; y < slice.height; ++y)
+          std::memcpy(buffer->bytes.data() + y * row_bytes,
+                      static_cast<const unsigned char*>(slice.samples) + y * slice.row_stride_bytes,
+                      row_bytes);
+        buffer->view = slice;
+        buffer->view.samples = buffer->bytes.data();
+        buffer->view.row_stride_bytes = row_bytes;
+      }
+    } catch (...) {
+      error = std::current_exception();
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (more && !error) {
+        buffer->filled = true;
+        next_to_read_ ^= 1;
+      } else {
+        finished_ = true;
+        error_ = error;
+      }
+    }
+    changed_.notify_all();
+    if (!more || error) return;
+  }
+}
+
+bool PrefetchingSource::next_slice(SliceView* slice) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  // The caller is done with the view it got last time: its buffer may be read into again.
+  if (held_ >= 0) {
+    buffers_[held_].filled = false;
+    held_ = -1;
+    changed_.notify_all();
+  }
+  Buffer& next = buffers_[next_to_hand_out_];
+  changed_.wait(lock, [&] { return next.filled || finished_; });
+  if (!next.filled) {
+    // Every slice read has been handed out; the inner source ended or failed after them.
+    if (error_) std::rethrow_exception(error_);
+    return false;
+  }
+  *slice = next.view;
+  held_ = next_to_hand_out_;
+  next_to_hand_out_ ^= 1;
+  return true;
+}
+
+}  // namespace mvox
