@@ -356,7 +356,7 @@ def print_target(speedups):
     for name, per_round in speedups:
         speedup = statistics.median(per_round)
         verdict = "met" if speedup >= 5 else "**not met**"
-        print(f"- {name}: {speedup:.1f}x ({min(per_round):.1f} .. {max(per_round):.1f}), {verdict}")
+        print(f"- {name}: {speedup:.2f}x ({min(per_round):.1f} .. {max(per_round):.1f}), {verdict}")
 
 
 def main():
