@@ -64,6 +64,8 @@ enum class SurfaceRule : std::uint8_t {
 };
 
 struct EngineOptions {
+  // Marching cubes keeps the samples of the two slices of the current cube layer too, to
+  // interpolate vertex positions: 8 bytes of workspace per slice pixel more.
   SurfaceMethod method = SurfaceMethod::voxels;
   // Marching voxels only: marching cubes must keep the defaults (fast, merge_rules).
   EngineKind kind = EngineKind::fast;
@@ -73,8 +75,6 @@ struct EngineOptions {
   // Also send every polygon batch by value (PolygonSink::consume_polygon_geometry), for a
   // renderer. Adds polygons_per_batch * sizeof(PolygonGeometry) bytes (116 each) of workspace.
   bool polygon_geometry = false;
-  // Marching cubes also keeps the samples of the two slices of the current cube layer, to
-  // interpolate vertex positions: 8 bytes per slice pixel more.
 };
 
 // What the engine has seen and produced so far.
