@@ -138,7 +138,11 @@ CPUs with AVX2, chosen at start-up, by two lane permutations of the running indi
   echo
   echo "- The literal engine is the reference implementation of the paper's passes (per-voxel"
   echo "  triangles and merges); it exists to check the fast engine, not to be fast."
-  echo "- MRbrain's end-to-end time is mostly decoding its 99 PNG files; CThead and engine are raw."
+  echo "- MRbrain's end-to-end time is mostly decoding its 99 PNG files (CThead and engine are raw);"
+  echo "  \`mvox extract\` decodes the next slice on a second thread while it extracts the current one."
+  echo "- Extraction is now several times faster than drawing the picture, so in the pipeline the"
+  echo "  renderer (issue 3's z-buffer) takes most of the time, and it bounds what marching voxels"
+  echo "  can save against marching cubes there."
   echo "- MRbrain has more surface per voxel (noisy MR at a low threshold), and the fast engine's"
   echo "  time grows with the number of polygons it emits."
 } > "$tmp"
