@@ -64,6 +64,13 @@ void add_ply_options(CLI::App& command, PlyChoice& choice) {
       ->delimiter(',')
       ->expected(3)
       ->check(CLI::PositiveNumber);
+  command
+      .add_option("--origin", choice.origin,
+                  "Position of voxel (0,0,0) along x,y,z, in the units of the spacing (default: "
+                  "from the input, else 0,0,0)")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(finite_number());
 }
 
 PlyWriterOptions ply_writer_options(const PlyChoice& choice, const double input_spacing[3],
@@ -72,7 +79,7 @@ PlyWriterOptions ply_writer_options(const PlyChoice& choice, const double input_
   options.format = choice.ascii ? PlyFormat::ascii : PlyFormat::binary_little_endian;
   for (int axis = 0; axis < 3; ++axis) {
     options.spacing[axis] = choice.spacing.empty() ? input_spacing[axis] : choice.spacing[axis];
-    options.origin[axis] = input_origin[axis];
+    options.origin[axis] = choice.origin.empty() ? input_origin[axis] : choice.origin[axis];
   }
   options.comments.push_back(comment);
   return options;

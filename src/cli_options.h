@@ -23,14 +23,16 @@ CLI::Validator finite_number();
 // --method, --engine, --surface.
 void add_engine_options(CLI::App& command, EngineChoice& choice);
 
-// --ascii and --spacing X,Y,Z (the spacing overrides what the input says).
+// --ascii, --spacing X,Y,Z and --origin X,Y,Z (both override what the input says).
 struct PlyChoice {
   bool ascii = false;
   std::vector<double> spacing;  // empty: from the input (1,1,1 for images and raw data)
+  std::vector<double> origin;   // empty: from the input (0,0,0 for images and raw data)
 };
 void add_ply_options(CLI::App& command, PlyChoice& choice);
 
-// The PLY options for a run, with the input's own spacing unless --spacing was given.
+// The PLY options for a run, with the input's own spacing and origin unless --spacing or
+// --origin was given.
 PlyWriterOptions ply_writer_options(const PlyChoice& choice, const double input_spacing[3],
                                     const double input_origin[3], const std::string& comment);
 

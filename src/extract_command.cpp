@@ -6,6 +6,7 @@
 
 #include "cli_options.h"
 #include "commands.h"
+#include "error.h"
 #include "mesh_job.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
@@ -26,6 +27,31 @@ struct ExtractArguments {
   PictureChoice picture;
 };
 
+// A threshold beyond what the samples can hold makes no voxel inner, or every voxel: an empty
+// file or a box, after a full run. Refused before reading, naming the input and its type.
+void check_threshold_range(const std::string& input, SampleType type, double threshold) {
+  double lowest = 0, highest = 0;
+  switch (type) {
+    case SampleType::u8: highest = 255; break;
+    case SampleType::u16: highest = 65535; break;
+    case SampleType::i16: lowest = -32768, highest = 32767; break;
+    case SampleType::f32: return;  // any finite threshold can split float samples
+  }
+  char problem[160];
+  if (threshold > highest)
+    std::snprintf(problem, sizeof problem,
+                  "threshold %g is above the largest %s sample (%g): no voxel would be inner",
+                  threshold, sample_type_name(type), highest);
+  else if (threshold <= lowest)
+    std::snprintf(problem, sizeof problem,
+                  "threshold %g is not above the smallest %s sample (%g): every voxel would be "
+                  "inner",
+                  threshold, sample_type_name(type), lowest);
+  else
+    return;
+  throw Error(input, problem);
+}
+
 std::string input_label(const std::vector<std::string>& inputs) {
   if (inputs.size() == 1) return inputs[0];
   return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) +
@@ -39,6 +65,7 @@ void run_extract(const ExtractArguments& args) {
   const auto open_start = std::chrono::steady_clock::now();
   std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw);
   const VolumeInfo& info = source->info();
+  check_threshold_range(input_label(args.inputs), info.type, args.threshold);
 
   MeshJob job;
   job.source_open_s =

@@ -51,6 +51,8 @@ std::string run_report_json(const RunReport& r) {
       << "  \"sample_type\": " << json_string(sample_type_name(r.volume.type)) << ",\n"
       << "  \"spacing\": [" << number(r.volume.spacing[0]) << ", " << number(r.volume.spacing[1])
       << ", " << number(r.volume.spacing[2]) << "],\n"
+      << "  \"origin\": [" << number(r.volume.origin[0]) << ", " << number(r.volume.origin[1])
+      << ", " << number(r.volume.origin[2]) << "],\n"
       << "  \"threshold\": " << number(r.threshold) << ",\n"
       << "  \"method\": " << json_string(r.method) << ",\n"
       << "  \"engine\": " << json_string(r.engine) << ",\n"

@@ -142,6 +142,34 @@ TEST(Cli, MarchingCubesMethodWritesTrianglesWithInterpolatedVertices) {
   EXPECT_EQ(dir.listing(), "cubes.json cubes.ply stack voxels.ply ");
 }
 
+TEST(Cli, OriginPlacesTheMeshAndAThresholdOutsideTheSampleRangeIsRefused) {
+  ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom sphere -o stack --size 20x18x12 -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_mvox("extract stack -t 128 -o plain.ply -q", dir.path()).exit_code, 0);
+  const auto placed = run_mvox(
+      "extract stack -t 128 -o placed.ply --spacing 1,1,2 --origin 10,-5,2.5 -q "
+      "--stats placed.json",
+      dir.path());
+  ASSERT_EQ(placed.exit_code, 0) << placed.output;
+  const PlyMesh plain = read_ply(dir / "plain.ply");
+  const PlyMesh moved = read_ply(dir / "placed.ply");
+  ASSERT_EQ(moved.positions.size(), plain.positions.size());
+  for (std::size_t i = 0; i < plain.positions.size(); ++i) {
+    EXPECT_FLOAT_EQ(moved.positions[i][0], 10 + plain.positions[i][0]);
+    EXPECT_FLOAT_EQ(moved.positions[i][1], -5 + plain.positions[i][1]);
+    EXPECT_FLOAT_EQ(moved.positions[i][2], 2.5f + 2 * plain.positions[i][2]);
+  }
+  EXPECT_NE(read_text(dir / "placed.json").find("\"origin\": [10, -5, 2.5]"), std::string::npos)
+      << read_text(dir / "placed.json");
+
+  // 8-bit slices: above 255 nothing is inner, at or below 0 everything is.
+  expect_one_line_error(run_mvox("extract stack -t 300 -o x.ply", dir.path()), "stack");
+  expect_one_line_error(run_mvox("extract stack -t 0 -o x.ply", dir.path()), "stack");
+  expect_one_line_error(run_mvox("extract stack -t 128 -o x.ply --origin 1,nan,0", dir.path()),
+                        "--origin", 2);
+  EXPECT_EQ(dir.listing(), "placed.json placed.ply plain.ply stack ");
+}
+
 TEST(Cli, DemoNeedsNoFilesAndWritesDemoPly) {
   ScratchDirectory dir;
   const auto result = run_mvox("demo --size 48", dir.path());
