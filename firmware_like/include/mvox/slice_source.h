@@ -14,6 +14,11 @@ struct VolumeInfo {
   SampleType type = SampleType::u8;
   double spacing[3] = {1, 1, 1};  // voxel size along x, y, z (mm or any unit)
   double origin[3] = {0, 0, 0};   // position of voxel (0,0,0)
+  // World direction of each voxel axis, unit vectors: axes[0] is where increasing x (column)
+  // points, axes[1] increasing y (row), axes[2] increasing z (slice). Identity unless the file
+  // says otherwise (DICOM orientation, NRRD space directions, MetaImage TransformMatrix).
+  // World position of voxel v = origin + sum over a of axes[a] * spacing[a] * v[a].
+  double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 };
 
 class SliceSource {
