@@ -149,6 +149,12 @@ TEST(PolygonTriangulation, EveryPolygonOfBothSurfaceRulesSplitsInsideItsCube) {
         expect_good_triangulation(edges, triangles, where);
         ++polygons;
         triangles_made += triangles.count;
+        // Two vertices that are not neighbours share a face only where the loop crosses an
+        // ambiguous face twice (docs/surface_rules.md says so).
+        for (int i = 0; i < n; ++i)
+          for (int j = i + 2; j < n && j - i < n - 1; ++j)
+            if (const int face = cube::shared_face(edges[i], edges[j]); face != -1)
+              EXPECT_TRUE(cube::face_is_ambiguous(config, face)) << where;
         // Would the fan from vertex 0 have done? Counted to show the choice matters.
         for (int k = 2; k <= n - 2; ++k)
           if (cube::shared_face(edges[0], edges[k]) != -1) {
