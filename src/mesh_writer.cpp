@@ -1,5 +1,6 @@
 #include "mesh_writer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -8,6 +9,9 @@
 
 namespace mvox {
 namespace {
+
+// Faces handed to the derived writer at a time: 16 KB of Polygon, 42 KB of FacePositions.
+constexpr std::size_t kFacesPerRun = 512;
 
 MeshWriterOptions checked(MeshWriterOptions options) {
   options.transform.check();
@@ -19,14 +23,16 @@ MeshWriterOptions checked(MeshWriterOptions options) {
 
 }  // namespace
 
-MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, FacePositions positions)
+MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, Positions positions)
     : options_(checked(options)),
       triangulate_(options.triangulate || faces == Faces::as_triangles),
-      positions_needed_(positions == FacePositions::needed),
+      positions_needed_(positions == Positions::needed),
       needs_geometry_(triangulate_ || positions_needed_),
       mirrors_(options_.transform.mirrors()),
       axis_aligned_(options_.transform.is_axis_aligned()),
-      normal_matrix_(options_.transform.normal_matrix()) {}
+      normal_matrix_(options_.transform.normal_matrix()),
+      faces_(kFacesPerRun),
+      face_positions_(positions_needed_ ? kFacesPerRun : 0) {}
 
 template <class Body>
 Status MeshWriter::guarded(const char* batch, Body&& body) {
@@ -68,7 +74,9 @@ void MeshWriter::place_vertices(const Vertex* vertices, std::size_t vertex_count
   }
   for (std::size_t i = 0; i < vertex_count; ++i) {
     const Vertex& vertex = vertices[i];
-    const Vector3d world = options_.transform.position(vertex.x, vertex.y, vertex.z);
+    const Vector3d world =
+        axis_aligned_ ? options_.transform.axis_aligned_position(vertex.x, vertex.y, vertex.z)
+                      : options_.transform.position(vertex.x, vertex.y, vertex.z);
     WorldVertex& out = vertex_batch_[i];
     for (int axis = 0; axis < 3; ++axis) {
       // Converting a double beyond float's range is undefined behaviour, so check first.
@@ -88,24 +96,35 @@ void MeshWriter::place_vertices(const Vertex* vertices, std::size_t vertex_count
   }
 }
 
-void MeshWriter::check_polygon(const Polygon& polygon, std::uint64_t index) const {
-  const int count = polygon.vertex_count;
-  if (count < 3 || count > kMaxPolygonVertices) {
-    throw Error(subject(), "internal error: face " + std::to_string(index) + " has " +
-                               std::to_string(count) + " vertices");
+void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count) const {
+  // Branch-free per polygon: the largest index and whether the size is in range, folded over the
+  // batch; the message is built only for a batch that fails.
+  std::uint32_t highest = 0;
+  bool sizes_ok = true;
+  for (std::size_t i = 0; i < polygon_count; ++i) {
+    const Polygon& polygon = polygons[i];
+    const unsigned count = polygon.vertex_count;
+    sizes_ok &= count - 3u <= unsigned{kMaxPolygonVertices} - 3u;
+    for (int k = 0; k < kMaxPolygonVertices; ++k)
+      if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
   }
-  for (int k = 0; k < count; ++k) {
-    if (polygon.vertices[k] >= vertex_count_) {
-      throw Error(subject(), "internal error: face " + std::to_string(index) +
-                                 " refers to vertex " + std::to_string(polygon.vertices[k]) +
-                                 " of " + std::to_string(vertex_count_) + " written");
-    }
+  if (sizes_ok && (polygon_count == 0 || highest < vertex_count_)) return;
+  for (std::size_t i = 0; i < polygon_count; ++i) {
+    const Polygon& polygon = polygons[i];
+    const int count = polygon.vertex_count;
+    const std::string face = "internal error: face " + std::to_string(polygon_count_ + i);
+    if (count < 3 || count > kMaxPolygonVertices)
+      throw Error(subject(), face + " has " + std::to_string(count) + " vertices");
+    for (int k = 0; k < count; ++k)
+      if (polygon.vertices[k] >= vertex_count_)
+        throw Error(subject(), face + " refers to vertex " + std::to_string(polygon.vertices[k]) +
+                                   " of " + std::to_string(vertex_count_) + " written");
   }
 }
 
 Status MeshWriter::consume_polygons(const Polygon* polygons, std::size_t polygon_count) {
   return guarded("polygons", [&] {
-    for (std::size_t i = 0; i < polygon_count; ++i) check_polygon(polygons[i], polygon_count_ + i);
+    check_polygons(polygons, polygon_count);
     polygon_count_ += polygon_count;
     if (needs_geometry_) {
       if (pending_batch_)
@@ -116,7 +135,13 @@ Status MeshWriter::consume_polygons(const Polygon* polygons, std::size_t polygon
       pending_batch_ = true;
       return;
     }
-    faces_.clear();
+    if (!triangulate_ && !mirrors_) {
+      // Nothing to change: the batch goes out as the engine sent it.
+      write_faces(polygons, nullptr, polygon_count);
+      face_count_ += polygon_count;
+      return;
+    }
+    face_fill_ = 0;
     for (std::size_t i = 0; i < polygon_count; ++i) add_faces(polygons[i], nullptr);
     flush_faces();
   });
@@ -129,7 +154,7 @@ Status MeshWriter::consume_polygon_geometry(const PolygonGeometry* polygons,
   return guarded("polygon geometry", [&] {
     if (!pending_batch_ || pending_.size() != polygon_count)
       throw Error(subject(), "internal error: polygon geometry does not match the polygon batch");
-    faces_.clear();
+    face_fill_ = 0;
     for (std::size_t i = 0; i < polygon_count; ++i) {
       if (polygons[i].vertex_count != pending_[i].vertex_count)
         throw Error(subject(), "internal error: polygon geometry does not match the polygon batch");
@@ -155,14 +180,19 @@ void MeshWriter::add_faces(const Polygon& polygon, const PolygonGeometry* geomet
 
 void MeshWriter::add_face(const Polygon& polygon, const PolygonGeometry* geometry,
                           const std::uint8_t* corners, int corner_count) {
-  WorldFace& face = faces_.emplace_back();
+  // Faces go out in small runs, so the buffer stays small whatever the engine's batch size.
+  if (face_fill_ == faces_.size()) flush_faces();
+  // Reused without clearing: only the first vertex_count entries of a face are ever read.
+  Polygon& face = faces_[face_fill_];
+  float(*positions)[3] = positions_needed_ ? face_positions_[face_fill_].xyz : nullptr;
+  ++face_fill_;
   face.vertex_count = static_cast<std::uint8_t>(corner_count);
   for (int k = 0; k < corner_count; ++k) {
     // A mirroring transform turns counter-clockwise into clockwise; walking the corners
     // backwards from the first turns it back, so the outward side stays outward.
     const int corner = corners[mirrors_ ? (corner_count - k) % corner_count : k];
     face.vertices[k] = polygon.vertices[corner];
-    if (positions_needed_) {
+    if (positions) {
       const Vertex& vertex = geometry->vertices[corner];
       const Vector3d world = options_.transform.position(vertex.x, vertex.y, vertex.z);
       for (int axis = 0; axis < 3; ++axis) {
@@ -171,16 +201,16 @@ void MeshWriter::add_face(const Polygon& polygon, const PolygonGeometry* geometr
         if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max()))
           throw Error(subject(), "vertex " + std::to_string(face.vertices[k]) +
                                      " lies outside the float range after spacing and origin");
-        face.positions[k][axis] = static_cast<float>(world[axis]);
+        positions[k][axis] = static_cast<float>(world[axis]);
       }
     }
   }
 }
 
 void MeshWriter::flush_faces() {
-  write_faces(faces_.data(), faces_.size());
-  face_count_ += faces_.size();
-  faces_.clear();
+  write_faces(faces_.data(), positions_needed_ ? face_positions_.data() : nullptr, face_fill_);
+  face_count_ += face_fill_;
+  face_fill_ = 0;
 }
 
 void MeshWriter::finish() {

@@ -34,18 +34,20 @@ struct WorldVertex {
   float normal[3] = {};
 };
 
-// A face as written: indices of vertices already written, wound counter-clockwise seen from
-// outside in the world (reversed from the engine's order when the transform mirrors). The world
-// positions of its vertices are filled in only for writers that asked for them (STL).
-struct WorldFace {
-  std::uint8_t vertex_count = 0;
-  std::uint32_t vertices[kMaxPolygonVertices] = {};
-  float positions[kMaxPolygonVertices][3] = {};
+// The world positions of one face's vertices, in the face's order, for writers that asked for
+// them (STL).
+struct FacePositions {
+  float xyz[kMaxPolygonVertices][3];
 };
 
 // A PolygonSink that writes a mesh file as the engine streams, in fixed memory whatever the
-// mesh size. The file appears, complete, only when finish() succeeds (OutputFile's temporary
-// and rename); on any failure the target is left as it was.
+// mesh size: the derived writer's buffers, a copy of one polygon batch when it waits for its
+// geometry (32 bytes a polygon), the placed vertices of one vertex batch (24 bytes a vertex) and
+// 512 faces at a time. Faces go to the derived writer as Polygon: indices of vertices already
+// written, wound counter-clockwise seen from outside in the world (reversed from the engine's
+// order when the transform mirrors); without mirror, triangles or positions they are the
+// engine's batch itself. The file appears, complete, only when finish() succeeds (OutputFile's
+// temporary and rename); on any failure the target is left as it was.
 //
 // The engine is built without exceptions, so the consume_* calls never throw: on an error they
 // remember it and return Status::sink_refused (also for every later call), and finish() throws
@@ -85,16 +87,18 @@ class MeshWriter : public PolygonSink {
 
  protected:
   enum class Faces : std::uint8_t { as_polygons, as_triangles };
-  enum class FacePositions : std::uint8_t { not_needed, needed };
+  enum class Positions : std::uint8_t { not_needed, needed };
 
   // Checks the options (throws mvox::Error) before the derived writer creates any file.
-  MeshWriter(const MeshWriterOptions& options, Faces faces, FacePositions positions);
+  MeshWriter(const MeshWriterOptions& options, Faces faces, Positions positions);
 
   const MeshWriterOptions& options() const { return options_; }
 
   // The derived writer's format. May throw mvox::Error; the base turns that into a refusal.
   virtual void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) = 0;
-  virtual void write_faces(const WorldFace* faces, std::size_t face_count) = 0;
+  // `positions` has one entry per face when the writer asked for them, else it is null.
+  virtual void write_faces(const Polygon* faces, const FacePositions* positions,
+                           std::size_t face_count) = 0;
   // Writes what only the end can tell (counts), and seals the file (OutputFile::seal).
   virtual void complete_file() = 0;
   virtual void publish_file() = 0;
@@ -103,7 +107,8 @@ class MeshWriter : public PolygonSink {
   template <class Body>
   Status guarded(const char* batch, Body&& body);
   void place_vertices(const Vertex* vertices, std::size_t vertex_count);
-  void check_polygon(const Polygon& polygon, std::uint64_t index) const;
+  // Throws unless every polygon has 3 to kMaxPolygonVertices vertices, each already consumed.
+  void check_polygons(const Polygon* polygons, std::size_t polygon_count) const;
   // Appends `polygon`'s faces (itself, or its triangles when `geometry` is given and the writer
   // triangulates) to faces_.
   void add_faces(const Polygon& polygon, const PolygonGeometry* geometry);
@@ -120,7 +125,10 @@ class MeshWriter : public PolygonSink {
   Matrix3d normal_matrix_{};
   std::vector<glm::vec3> normal_batch_;
   std::vector<WorldVertex> vertex_batch_;
-  std::vector<WorldFace> faces_;
+  // kFacesPerRun faces (and their positions, if needed), the first face_fill_ in use.
+  std::vector<Polygon> faces_;
+  std::vector<FacePositions> face_positions_;
+  std::size_t face_fill_ = 0;
   std::vector<Polygon> pending_;  // a polygon batch waiting for its geometry
   bool pending_batch_ = false;
   std::uint64_t vertex_count_ = 0;

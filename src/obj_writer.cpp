@@ -19,7 +19,7 @@ char* put_floats(char* out, char* end, const char* keyword, const float* values)
 }  // namespace
 
 ObjWriter::ObjWriter(const std::string& path, const MeshWriterOptions& options)
-    : MeshWriter(options, Faces::as_polygons, FacePositions::not_needed), out_(path) {
+    : MeshWriter(options, Faces::as_polygons, Positions::not_needed), out_(path) {
   std::string comments;
   for (const std::string& comment : this->options().comments) comments += "# " + comment + "\n";
   out_.write(comments.data(), comments.size());
@@ -36,10 +36,10 @@ void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_c
   }
 }
 
-void ObjWriter::write_faces(const WorldFace* faces, std::size_t face_count) {
+void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
   const bool with_normals = options().normals != nullptr;
   for (std::size_t i = 0; i < face_count; ++i) {
-    const WorldFace& face = faces[i];
+    const Polygon& face = faces[i];
     // "f", then per vertex a space and "I" or "I//I", I of at most 10 digits, and the newline.
     char line[1 + kMaxPolygonVertices * 23 + 1];
     std::size_t used = 0;

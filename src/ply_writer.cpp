@@ -51,7 +51,7 @@ std::size_t PlyWriter::reserved_header_bytes(const PlyWriterOptions& options) {
 }
 
 PlyWriter::PlyWriter(const std::string& path, PlyWriterOptions options)
-    : MeshWriter(options, Faces::as_polygons, FacePositions::not_needed),
+    : MeshWriter(options, Faces::as_polygons, Positions::not_needed),
       format_(options.format),
       out_(path),
       faces_(out_.scratch_directory(), out_.subject()) {
@@ -103,10 +103,12 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
   }
 }
 
-void PlyWriter::write_faces(const WorldFace* faces, std::size_t face_count) {
+void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
   for (std::size_t i = 0; i < face_count; ++i) {
-    const WorldFace& face = faces[i];
+    const Polygon& face = faces[i];
     const int count = face.vertex_count;
+    // MeshWriter checked every face; checked again so the record below provably fits.
+    if (count > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
     if (format_ == PlyFormat::ascii) {
       // "7" and seven indices of at most 10 digits, each after a space, and the newline.
       char line[1 + kMaxPolygonVertices * 11 + 1];

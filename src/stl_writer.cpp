@@ -54,7 +54,7 @@ std::string StlWriter::header(const MeshWriterOptions& options) {
 }
 
 StlWriter::StlWriter(const std::string& path, const MeshWriterOptions& options)
-    : MeshWriter(without_vertex_normals(options), Faces::as_triangles, FacePositions::needed),
+    : MeshWriter(without_vertex_normals(options), Faces::as_triangles, Positions::needed),
       out_(path) {
   if (out_.can_overwrite()) {
     // The count is a placeholder until complete_file().
@@ -70,30 +70,33 @@ void StlWriter::write_vertices(const WorldVertex*, std::size_t) {
   // Vertices are written with each triangle, from the polygon geometry.
 }
 
-void StlWriter::write_faces(const WorldFace* faces, std::size_t face_count) {
+void StlWriter::write_faces(const Polygon* faces, const FacePositions* positions,
+                            std::size_t face_count) {
+  if (!positions) throw Error(subject(), "internal error: STL faces without positions");
   if (face_count > std::numeric_limits<std::uint32_t>::max() - faces_written())
     throw Error(subject(), "more than 4,294,967,295 triangles, which STL cannot count");
   if (spool_) {
-    write_triangles_to(*spool_, faces, face_count);
+    write_triangles_to(*spool_, faces, positions, face_count);
   } else {
-    write_triangles_to(out_, faces, face_count);
+    write_triangles_to(out_, faces, positions, face_count);
   }
 }
 
 template <class Sink>
-void StlWriter::write_triangles_to(Sink& sink, const WorldFace* faces, std::size_t face_count) {
+void StlWriter::write_triangles_to(Sink& sink, const Polygon* faces, const FacePositions* positions,
+                                   std::size_t face_count) {
   for (std::size_t i = 0; i < face_count; ++i) {
-    const WorldFace& face = faces[i];
-    if (face.vertex_count != 3)
+    if (faces[i].vertex_count != 3)
       throw Error(subject(), "internal error: an STL face with " +
-                                 std::to_string(face.vertex_count) + " vertices");
+                                 std::to_string(faces[i].vertex_count) + " vertices");
+    const float(*p)[3] = positions[i].xyz;
     unsigned char record[kTriangleBytes];
     unsigned char* end = record;
     float normal[3];
-    face_normal(face.positions, normal);
+    face_normal(p, normal);
     for (float value : normal) end = store_float(end, value);
     for (int k = 0; k < 3; ++k)
-      for (int axis = 0; axis < 3; ++axis) end = store_float(end, face.positions[k][axis]);
+      for (int axis = 0; axis < 3; ++axis) end = store_float(end, p[k][axis]);
     *end++ = 0;  // attribute byte count: 0, as nearly every reader expects
     *end++ = 0;
     sink.write(record, sizeof record);

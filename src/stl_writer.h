@@ -39,11 +39,13 @@ class StlWriter final : public MeshWriter {
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
-  void write_faces(const WorldFace* faces, std::size_t face_count) override;
+  void write_faces(const Polygon* faces, const FacePositions* positions,
+                   std::size_t face_count) override;
   void complete_file() override;
   void publish_file() override;
   template <class Sink>
-  void write_triangles_to(Sink& sink, const WorldFace* faces, std::size_t face_count);
+  void write_triangles_to(Sink& sink, const Polygon* faces, const FacePositions* positions,
+                          std::size_t face_count);
 
   OutputFile out_;
   std::optional<ScratchFile> spool_;  // only when out_ cannot be overwritten

@@ -46,6 +46,12 @@ struct WorldTransform {
     return world;
   }
 
+  // position() for identity axes, with the same result: origin + spacing * v per axis. The
+  // writers' hot path, since most inputs have no orientation.
+  Vector3d axis_aligned_position(float x, float y, float z) const {
+    return {origin[0] + spacing[0] * x, origin[1] + spacing[1] * y, origin[2] + spacing[2] * z};
+  }
+
   // The matrix that takes a normal from the spaced voxel frame (the gradient per world unit
   // along the voxel axes, as VertexNormals computes it) to the world: the inverse transpose of
   // the matrix whose columns are the axes. For orthonormal axes that is the rotation itself.

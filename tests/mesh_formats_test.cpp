@@ -462,6 +462,7 @@ TEST(WorldTransform, IdentityAxesGiveExactlyOriginPlusSpacingTimesVoxel) {
     EXPECT_EQ(p[0], -12.345 + 0.1 * v);
     EXPECT_EQ(p[1], 1e-3 + 0.3 * (v + 1));
     EXPECT_EQ(p[2], 7e6 + (1.0 / 3.0) * (v + 2));
+    EXPECT_EQ(t.axis_aligned_position(v, v + 1, v + 2), p);  // the writers' fast path
   }
 }
 
