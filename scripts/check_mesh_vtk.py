@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Checks a mesh file with VTK, an independent reader: is the surface closed, manifold and
-consistently wound? Usage: scripts/check_mesh_vtk.py MESH.ply [...]
+consistently wound? Usage: scripts/check_mesh_vtk.py MESH.ply|MESH.stl|MESH.obj [...]
 
-Reads with vtkPLYReader, counts boundary and non-manifold edges with vtkFeatureEdges, and checks
+Reads with vtkPLYReader, vtkSTLReader (which merges the triangles' repeated vertices) or
+vtkOBJReader by extension, counts boundary and non-manifold edges with vtkFeatureEdges, and checks
 the winding itself: every directed edge must appear once and its reverse once. Prints one line
 per file and exits 1 if any file is open or inconsistently wound. Needs Debian's python3-vtk9 and
 python3-numpy (scripts/install_bench_deps.sh)."""
@@ -13,8 +14,14 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 
+READERS = {".ply": vtk.vtkPLYReader, ".stl": vtk.vtkSTLReader, ".obj": vtk.vtkOBJReader}
+
+
 def check(path):
-    reader = vtk.vtkPLYReader()
+    extension = path[path.rfind(".") :].lower()
+    if extension not in READERS:
+        return False, f"{path}: not .ply, .stl or .obj"
+    reader = READERS[extension]()
     reader.SetFileName(path)
     reader.Update()
     mesh = reader.GetOutput()
@@ -68,7 +75,8 @@ def check(path):
     ok = boundary == 0 and non_manifold == 0 and repeated == 0 and unmatched == 0 and volume > 0
     sizes_text = ", ".join(f"{n}:{c}" for n, c in sorted(sizes.items()))
     return ok, (
-        f"{path}: {'OK' if ok else 'NOT CLOSED/CONSISTENT'}: {mesh.GetNumberOfPoints()} points, "
+        f"{path}: {'OK' if ok else 'NOT CLOSED/CONSISTENT'} ({reader.GetClassName()}): "
+        f"{mesh.GetNumberOfPoints()} points, "
         f"{mesh.GetNumberOfPolys()} polygons ({sizes_text}), boundary edges {boundary}, "
         f"non-manifold edges {non_manifold}, repeated directed edges {repeated}, "
         f"edges without their reverse {unmatched}, Euler characteristic {euler}, "

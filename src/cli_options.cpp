@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 
 #include "error.h"
 
@@ -55,8 +56,17 @@ EngineOptions EngineChoice::options() const {
   return result;
 }
 
-void add_ply_options(CLI::App& command, PlyChoice& choice) {
+void add_mesh_options(CLI::App& command, MeshChoice& choice) {
+  command
+      .add_option("--format", choice.format,
+                  std::string("Mesh format: ") + kMeshFormatChoices +
+                      " (default: from the output's extension .ply, .stl or .obj; binary PLY "
+                      "for '-o -')")
+      ->check(CLI::IsMember({"ply", "ply-ascii", "stl", "obj"}));
   command.add_flag("--ascii", choice.ascii, "Write ASCII PLY instead of binary little-endian");
+  command.add_flag("--triangulate", choice.triangulate,
+                   "Split every polygon into triangles, none lying in a cube face (STL always "
+                   "does)");
   command
       .add_option(
           "--spacing", choice.spacing,
@@ -73,14 +83,37 @@ void add_ply_options(CLI::App& command, PlyChoice& choice) {
       ->check(finite_number());
 }
 
-PlyWriterOptions ply_writer_options(const PlyChoice& choice, const double input_spacing[3],
-                                    const double input_origin[3], const std::string& comment) {
-  PlyWriterOptions options;
-  options.format = choice.ascii ? PlyFormat::ascii : PlyFormat::binary_little_endian;
-  for (int axis = 0; axis < 3; ++axis) {
-    options.spacing[axis] = choice.spacing.empty() ? input_spacing[axis] : choice.spacing[axis];
-    options.origin[axis] = choice.origin.empty() ? input_origin[axis] : choice.origin[axis];
+MeshFormat MeshChoice::format_for(const std::string& output) const {
+  if (output.empty()) {
+    if (!format.empty()) throw CLI::ValidationError("--format", "needs a mesh output (-o)");
+    return MeshFormat::ply;  // no mesh is written
   }
+  std::optional<MeshFormat> chosen = mesh_format_named(format);
+  if (!chosen) chosen = mesh_format_of_path(output);
+  if (!chosen && output == "-") chosen = MeshFormat::ply;
+  if (!chosen)
+    throw CLI::ValidationError("--output", "'" + output +
+                                               "' does not end in .ply, .stl or .obj; use one "
+                                               "of these or give --format " +
+                                               kMeshFormatChoices);
+  if (ascii) {
+    if (*chosen == MeshFormat::stl)
+      throw CLI::ValidationError("--ascii", "STL is written in binary only; use PLY or OBJ");
+    if (*chosen == MeshFormat::ply) chosen = MeshFormat::ply_ascii;
+    // OBJ is text already.
+  }
+  return *chosen;
+}
+
+MeshWriterOptions mesh_writer_options(const MeshChoice& choice, const VolumeInfo& input,
+                                      const std::string& comment) {
+  MeshWriterOptions options;
+  options.transform = WorldTransform::of_volume(input);
+  if (!choice.spacing.empty())
+    for (int axis = 0; axis < 3; ++axis) options.transform.spacing[axis] = choice.spacing[axis];
+  if (!choice.origin.empty())
+    for (int axis = 0; axis < 3; ++axis) options.transform.origin[axis] = choice.origin[axis];
+  options.triangulate = choice.triangulate;
   options.comments.push_back(comment);
   return options;
 }

@@ -1,11 +1,13 @@
 #pragma once
-// Command-line options shared by several subcommands: engine choice, surface rule, spacing.
+// Command-line options shared by several subcommands: engine choice, surface rule, mesh format
+// and placement, picture.
 #include <CLI/CLI.hpp>
 #include <array>
 #include <string>
 
+#include "mesh_format.h"
+#include "mesh_writer.h"
 #include "mvox/engine.h"
-#include "ply_writer.h"
 #include "surface_picture.h"
 
 namespace mvox {
@@ -23,18 +25,27 @@ CLI::Validator finite_number();
 // --method, --engine, --surface.
 void add_engine_options(CLI::App& command, EngineChoice& choice);
 
-// --ascii, --spacing X,Y,Z and --origin X,Y,Z (both override what the input says).
-struct PlyChoice {
+// --format, --ascii, --triangulate, --spacing X,Y,Z and --origin X,Y,Z (both override what the
+// input says).
+struct MeshChoice {
+  std::string format;  // empty: from the output's extension
   bool ascii = false;
+  bool triangulate = false;
   std::vector<double> spacing;  // empty: from the input (1,1,1 for images and raw data)
   std::vector<double> origin;   // empty: from the input (0,0,0 for images and raw data)
-};
-void add_ply_options(CLI::App& command, PlyChoice& choice);
 
-// The PLY options for a run, with the input's own spacing and origin unless --spacing or
-// --origin was given.
-PlyWriterOptions ply_writer_options(const PlyChoice& choice, const double input_spacing[3],
-                                    const double input_origin[3], const std::string& comment);
+  // The format to write `output` in: --format, else the extension (.ply, .stl, .obj, any case),
+  // else binary PLY for standard output ("-"); --ascii makes PLY ASCII. Throws
+  // CLI::ValidationError (a usage error) for an extension that names no format, --ascii with
+  // STL, or --format without an output.
+  MeshFormat format_for(const std::string& output) const;
+};
+void add_mesh_options(CLI::App& command, MeshChoice& choice);
+
+// The mesh writer options for a run: the input's placement (spacing, origin, axes) unless
+// --spacing or --origin was given, --triangulate, and `comment`.
+MeshWriterOptions mesh_writer_options(const MeshChoice& choice, const VolumeInfo& input,
+                                      const std::string& comment);
 
 // The picture options: --image, --size, --view, --perspective, --fov, --flat, and for
 // extraction also --frames, --every and --show.

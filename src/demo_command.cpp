@@ -19,7 +19,7 @@ struct DemoArguments {
   std::string stats_path;
   bool quiet = false;
   EngineChoice engine;
-  PlyChoice ply;
+  MeshChoice mesh;
   PictureChoice picture;
 };
 
@@ -30,15 +30,17 @@ void run_demo(const DemoArguments& args) {
   sim::SimulatedScanner scanner(*phantom, scan);
   const double density_threshold = sim::default_density_threshold(args.phantom);
 
+  const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before the scan
   MeshJob job;
   job.input_label = "phantom " + args.phantom;
   job.threshold = sim::sample_threshold(density_threshold, scan);
   job.engine = args.engine.options();
   job.output = args.output;
+  job.format = format;
   job.stats_path = args.stats_path;
   job.quiet = args.quiet;
-  job.ply = ply_writer_options(args.ply, scanner.info().spacing, scanner.info().origin,
-                               "mvox demo: " + args.phantom + " phantom");
+  job.mesh =
+      mesh_writer_options(args.mesh, scanner.info(), "mvox demo: " + args.phantom + " phantom");
   job.picture = args.picture.options();
   if (!args.quiet)
     std::fprintf(stderr,
@@ -63,9 +65,10 @@ void add_demo_command(CLI::App& app) {
   command->add_option("--size", args->size, "Voxels along each axis")
       ->check(CLI::Range(2u, 4096u))
       ->capture_default_str();
-  command->add_option("-o,--output", args->output, "Output PLY file")->capture_default_str();
+  command->add_option("-o,--output", args->output, "Output mesh: .ply, .stl or .obj")
+      ->capture_default_str();
   add_engine_options(*command, args->engine);
-  add_ply_options(*command, args->ply);
+  add_mesh_options(*command, args->mesh);
   args->picture.image = "demo.png";
   add_picture_options(*command, args->picture, PictureUse::extraction);
   command->add_option("--stats", args->stats_path, "Also write a JSON report");

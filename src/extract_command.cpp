@@ -1,4 +1,4 @@
-// mvox extract INPUT... -t D -o mesh.ply: the main job.
+// mvox extract INPUT... -t D -o mesh.ply|.stl|.obj: the main job.
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -22,7 +22,7 @@ struct ExtractArguments {
   std::string stats_path;
   bool quiet = false;
   EngineChoice engine;
-  PlyChoice ply;
+  MeshChoice mesh;
   bool normals = false;
   PictureChoice picture;
 };
@@ -59,6 +59,7 @@ std::string input_label(const std::vector<std::string>& inputs) {
 }
 
 void run_extract(const ExtractArguments& args) {
+  const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
   std::optional<RawFormat> raw;
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
   // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
@@ -74,6 +75,7 @@ void run_extract(const ExtractArguments& args) {
   job.threshold = args.threshold;
   job.engine = args.engine.options();
   job.output = args.output;
+  job.format = format;
   job.stats_path = args.stats_path;
   job.quiet = args.quiet;
   char comment[160];
@@ -83,7 +85,7 @@ void run_extract(const ExtractArguments& args) {
     std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
                   args.threshold, engine_kind_name(job.engine.kind),
                   surface_rule_name(job.engine.rule));
-  job.ply = ply_writer_options(args.ply, info.spacing, info.origin, comment);
+  job.mesh = mesh_writer_options(args.mesh, info, comment);
   job.normals = args.normals;
   job.picture = args.picture.options();
   run_mesh_job(*source, job);
@@ -95,8 +97,8 @@ void add_extract_command(CLI::App& app) {
   auto args = std::make_shared<ExtractArguments>();
   CLI::App* command = app.add_subcommand(
       "extract",
-      "Extract the surface at threshold D (inner voxels: value >= D) and write it as PLY, "
-      "a shaded picture, or both");
+      "Extract the surface at threshold D (inner voxels: value >= D) and write it as a mesh "
+      "(PLY, STL or OBJ), a shaded picture, or both");
   command
       ->add_option("INPUT", args->inputs,
                    "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images, raw slice "
@@ -106,15 +108,16 @@ void add_extract_command(CLI::App& app) {
       ->required()
       ->check(finite_number());
   command->add_option("-o,--output", args->output,
-                      "Output PLY file ('-' for standard output); may be left out with --image");
+                      "Output mesh: .ply, .stl or .obj ('-' for standard output); may be left "
+                      "out with --image");
   command->add_option("--raw", args->raw_spec,
                       "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
                       "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le");
   add_engine_options(*command, args->engine);
-  add_ply_options(*command, args->ply);
+  add_mesh_options(*command, args->mesh);
   command->add_flag("--normals", args->normals,
-                    "Write smooth outward normals (nx, ny, nz; from the density gradient) into the "
-                    "PLY");
+                    "Write smooth outward normals (from the density gradient) into the mesh: "
+                    "PLY nx, ny, nz or OBJ vn");
   add_picture_options(*command, args->picture, PictureUse::extraction);
   command->add_option("--stats", args->stats_path,
                       "Also write a JSON report: dimensions, counts, time per phase, peak memory");

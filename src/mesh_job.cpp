@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <optional>
 
 #include "error.h"
@@ -82,9 +83,11 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   report.image = job.picture.image_path;
   report.volume = source.info();
   // The report gives the placement the mesh and picture were made with (--spacing wins).
+  const WorldTransform& placement = job.mesh.transform;
   for (int axis = 0; axis < 3; ++axis) {
-    report.volume.spacing[axis] = job.ply.spacing[axis];
-    report.volume.origin[axis] = job.ply.origin[axis];
+    report.volume.spacing[axis] = placement.spacing[axis];
+    report.volume.origin[axis] = placement.origin[axis];
+    for (int i = 0; i < 3; ++i) report.volume.axes[axis][i] = placement.axes[axis][i];
   }
   report.threshold = job.threshold;
   report.method = surface_method_name(job.engine.method);
@@ -96,6 +99,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (!want_mesh && !want_picture)
     throw Error(job.input_label, "nothing to write: give -o mesh.ply, --image picture.png or both");
   if (job.normals && !want_mesh) throw Error("--normals", "needs a mesh output (-o)");
+  if (job.mesh.triangulate && !want_mesh) throw Error("--triangulate", "needs a mesh output (-o)");
   // Two outputs on one path would overwrite each other when they appear.
   const std::string* paths[] = {&job.output, &job.picture.image_path, &job.stats_path};
   const char* names[] = {"the mesh output", "the image", "the --stats report"};
@@ -108,17 +112,20 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   // long run; they appear together, and only when everything has succeeded.
   std::optional<NormalWindow> normal_window;
   if (job.normals || (want_picture && job.picture.smooth))
-    normal_window.emplace(report.volume, job.ply.spacing, job.input_label);
+    normal_window.emplace(report.volume, placement.spacing, job.input_label);
   const VertexNormals* normals = normal_window ? &normal_window->normals() : nullptr;
-  std::optional<PlyWriter> writer;
+  std::unique_ptr<MeshWriter> writer;
+  EngineOptions engine = job.engine;
   if (want_mesh) {
-    PlyWriterOptions ply = job.ply;
-    ply.normals = job.normals ? normals : nullptr;
-    writer.emplace(job.output, ply);
+    MeshWriterOptions mesh = job.mesh;
+    mesh.normals = job.normals ? normals : nullptr;
+    writer = open_mesh_writer(job.output, job.format, mesh);
+    // STL and --triangulate need each polygon's positions.
+    if (writer->needs_polygon_geometry()) engine.polygon_geometry = true;
   }
   std::optional<SurfacePicture> picture;
   if (want_picture)
-    picture.emplace(report.volume, job.ply.spacing, job.ply.origin, normals, job.picture);
+    picture.emplace(report.volume, placement.spacing, placement.origin, normals, job.picture);
   std::optional<OutputFile> stats_file;
   if (!job.stats_path.empty()) stats_file.emplace(job.stats_path);
 
@@ -132,7 +139,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     // Reading overlaps extraction from here on; the read time reported is the time spent
     // waiting for a slice.
     PrefetchingSource prefetched(source);
-    report.result = run_pipeline(prefetched, job.threshold, job.engine, sinks, job.input_label,
+    report.result = run_pipeline(prefetched, job.threshold, engine, sinks, job.input_label,
                                  [&](std::uint32_t done) {
                                    progress.update(done);
                                    if (picture) picture->after_slice(done);

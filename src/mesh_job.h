@@ -1,11 +1,11 @@
 #pragma once
 // The job behind `mvox extract` and `mvox demo`: stream a slice source through the engine into a
-// PLY file, with progress, a summary line and an optional --stats report.
+// mesh file (PLY, STL or OBJ), with progress, a summary line and an optional --stats report.
 #include <string>
 
+#include "mesh_format.h"
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
-#include "ply_writer.h"
 #include "stats_json.h"
 #include "surface_picture.h"
 
@@ -15,9 +15,11 @@ struct MeshJob {
   std::string input_label;  // for messages and the report: the input as the user named it
   double threshold = 0;     // in sample units
   EngineOptions engine;
-  std::string output;    // PLY path, "-" for standard output; empty: no mesh (a picture only)
-  PlyWriterOptions ply;  // its `normals` is set by the job when `normals` is true
-  bool normals = false;  // write gradient normals (nx, ny, nz) into the PLY
+  std::string output;  // mesh path, "-" for standard output; empty: no mesh (a picture only)
+  MeshFormat format = MeshFormat::ply;
+  // Placement, comments, --triangulate; its `normals` is set by the job when `normals` is true.
+  MeshWriterOptions mesh;
+  bool normals = false;  // write gradient normals (PLY nx, ny, nz; OBJ vn) into the mesh
   PictureOptions picture;
   std::string stats_path;    // empty: no report
   bool quiet = false;        // no progress line, no summary

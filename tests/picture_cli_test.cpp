@@ -156,8 +156,9 @@ TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
                         "--every", 2);
   expect_one_line_error(run_mvox("extract stack -t 128 --image a.png --view 1,2,3,4", dir.path()),
                         "--view", 2);
-  expect_one_line_error(run_mvox("extract stack -t 128 -o a.png --image a.png", dir.path()),
-                        "a.png");
+  // --format: a .png mesh output is otherwise a usage error (no mesh format has .png).
+  expect_one_line_error(
+      run_mvox("extract stack -t 128 -o a.png --format ply --image a.png", dir.path()), "a.png");
   expect_one_line_error(run_mvox("extract stack -t 128 --image no/dir/a.png", dir.path()),
                         "no/dir/a.png");
   expect_one_line_error(run_mvox("render missing.ply -o a.png", dir.path()), "missing.ply");

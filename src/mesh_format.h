@@ -1,0 +1,32 @@
+#pragma once
+// The mesh formats mvox writes, chosen by name (--format) or by the output's extension, and the
+// writer for each.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "mesh_writer.h"
+
+namespace mvox {
+
+enum class MeshFormat : std::uint8_t { ply, ply_ascii, stl, obj };
+
+// The choices for --format, for help and messages.
+constexpr const char kMeshFormatChoices[] = "ply|ply-ascii|stl|obj";
+
+// "ply", "ply-ascii", "stl" or "obj": the --format name.
+const char* mesh_format_name(MeshFormat format);
+
+// The format a --format name stands for, or nothing.
+std::optional<MeshFormat> mesh_format_named(const std::string& name);
+
+// The format a file name's extension implies, ignoring case: .ply (binary PLY), .stl, .obj; or
+// nothing (another extension, none, or "-" for standard output).
+std::optional<MeshFormat> mesh_format_of_path(const std::string& path);
+
+// A writer of `format` to `path` ("-" for standard output). Throws mvox::Error as the writers do.
+std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat format,
+                                             const MeshWriterOptions& options);
+
+}  // namespace mvox
