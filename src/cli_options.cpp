@@ -3,11 +3,23 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <optional>
+#include <system_error>
 
 #include "error.h"
 
 namespace mvox {
+namespace {
+
+bool is_existing_non_regular_file(const std::string& path) {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  return !error && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) &&
+         !std::filesystem::is_directory(status);
+}
+
+}  // namespace
 
 CLI::Validator finite_number() {
   return CLI::Validator(
@@ -90,7 +102,9 @@ MeshFormat MeshChoice::format_for(const std::string& output) const {
   }
   std::optional<MeshFormat> chosen = mesh_format_named(format);
   if (!chosen) chosen = mesh_format_of_path(output);
-  if (!chosen && output == "-") chosen = MeshFormat::ply;
+  // Standard output, devices and pipes (/dev/null, a FIFO) have no extension to go by: like
+  // "-", they get the native format.
+  if (!chosen && (output == "-" || is_existing_non_regular_file(output))) chosen = MeshFormat::ply;
   if (!chosen)
     throw CLI::ValidationError("--output", "'" + output +
                                                "' does not end in .ply, .stl or .obj; use one "
