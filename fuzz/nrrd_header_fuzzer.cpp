@@ -10,9 +10,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    const mvox::NrrdHeader header =
-        mvox::parse_nrrd_header(std::string_view(reinterpret_cast<const char*>(data), size),
-                                "fuzz.nrrd");
+    const mvox::NrrdHeader header = mvox::parse_nrrd_header(
+        std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.nrrd");
     // What the reader relies on: a header that parses describes a volume it can address.
     if (header.volume.info.width == 0 || header.volume.info.height == 0 ||
         header.volume.info.depth == 0 || header.header_bytes > size) {
