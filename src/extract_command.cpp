@@ -10,6 +10,7 @@
 #include "mesh_job.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
+#include "volume_files.h"
 
 namespace mvox {
 namespace {
@@ -60,6 +61,15 @@ std::string input_label(const std::vector<std::string>& inputs) {
 
 void run_extract(const ExtractArguments& args) {
   const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
+  // --raw describes headerless files; a NRRD or MetaImage file describes itself. Asking for
+  // both is a usage error (exit 2), found before any file is opened.
+  for (const std::string& input : args.inputs) {
+    const HeaderedFormat format = headered_format(input);
+    if (!args.raw_spec.empty() && format != HeaderedFormat::none) {
+      throw CLI::ValidationError("--raw", input + " is a " + headered_format_name(format) +
+                                              " file with its own header; leave --raw out");
+    }
+  }
   std::optional<RawFormat> raw;
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
   // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
@@ -101,8 +111,9 @@ void add_extract_command(CLI::App& app) {
       "(PLY, STL or OBJ), a shaded picture, or both");
   command
       ->add_option("INPUT", args->inputs,
-                   "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images, raw slice "
-                   "files, or one raw volume file (with --raw)")
+                   "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images (TIFF files "
+                   "may hold many pages), one NRRD (.nrrd, .nhdr) or MetaImage (.mhd, .mha) "
+                   "volume, raw slice files, or one raw volume file (with --raw)")
       ->required();
   command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
       ->required()

@@ -2,19 +2,29 @@
 
 #include <filesystem>
 #include <system_error>
+#include <utility>
 
 #include "error.h"
 #include "image_stack_source.h"
 #include "input_files.h"
 #include "raw_slices_source.h"
 #include "raw_volume_source.h"
+#include "volume_files.h"
 
 namespace mvox {
 
 std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& inputs,
                                                const std::optional<RawFormat>& raw) {
   if (!raw) {
-    return std::make_unique<ImageStackSource>(list_input_files(inputs, InputKind::image_stack));
+    std::vector<std::string> files = list_input_files(inputs, InputKind::image_stack);
+    if (std::unique_ptr<SliceSource> volume = open_volume_files(files)) return volume;
+    return std::make_unique<ImageStackSource>(std::move(files));
+  }
+  for (const std::string& input : inputs) {
+    if (const HeaderedFormat format = headered_format(input); format != HeaderedFormat::none) {
+      throw Error("--raw", input + " is a " + headered_format_name(format) +
+                               " file with its own header; leave --raw out");
+    }
   }
   if (raw->depth == 0) {
     return std::make_unique<RawSlicesSource>(list_input_files(inputs, InputKind::raw_files), *raw);

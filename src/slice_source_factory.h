@@ -14,7 +14,9 @@ namespace mvox {
 //   matching one file is fine, a directory is not).
 // - raw without depth (WxH:TYPE): RawSlicesSource over list_input_files(inputs, raw_files),
 //   so a directory contributes all its regular, non-hidden files.
-// - no raw: ImageStackSource over list_input_files(inputs, image_stack).
+// - no raw: list_input_files(inputs, image_stack), then open_volume_files (volume_files.h:
+//   NRRD, MetaImage, TIFF stacks) or else ImageStackSource.
+// - raw with an input named like a NRRD or MetaImage file: refused (subject "--raw").
 // Throws mvox::Error from the file listing and the readers' constructors.
 std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& inputs,
                                                const std::optional<RawFormat>& raw);

@@ -520,7 +520,9 @@ TEST(ImageStack, RefusesColourImages) {
 TEST(ImageStack, RefusesUnsupportedBitDepth) {
   TempDir dir;
   ASSERT_TRUE(cv::imwrite(dir / "float.tif", cv::Mat(4, 4, CV_32F, cv::Scalar(1.5))));
-  const std::string message = error_of([&] { read_through({dir / "float.tif"}, std::nullopt); });
+  // Directly: through open_slice_source a TIFF-only input goes to TiffStackSource, which reads
+  // float pages (tiff_stack_test.cpp).
+  const std::string message = error_of([&] { ImageStackSource source({dir / "float.tif"}); });
   EXPECT_CONTAINS(message, dir / "float.tif: image is 32-bit float");
 }
 

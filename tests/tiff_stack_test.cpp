@@ -1,0 +1,442 @@
+// TIFF stacks (tiff_stack_source.h): multi-page files written here with libtiff, striped and
+// tiled, compressed or not, for every page type; the samples must be the phantom's, and the
+// mesh the one from the same slices as separate image files (read by OpenCV) or a raw volume.
+// Refusals name the file and the 1-based page.
+#include <tiffio.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "command_runner.h"
+#include "error.h"
+#include "gtest/gtest.h"
+#include "image_stack_source.h"
+#include "mesh_capture.h"
+#include "mesh_compare.h"
+#include "mesh_topology.h"
+#include "raw_volume_source.h"
+#include "slice_source_factory.h"
+#include "tiff_stack_source.h"
+#include "volume_samples.h"
+
+namespace fs = std::filesystem;
+
+namespace mvox {
+namespace {
+
+using test::ScratchDirectory;
+
+// Not multiples of the 16-pixel tiles, so that edge tiles are partly outside the image.
+constexpr std::uint32_t kWidth = 37, kHeight = 29, kDepth = 7;
+
+#define EXPECT_CONTAINS(text, part) \
+  EXPECT_NE(std::string(text).find(part), std::string::npos) << "\"" << (text) << "\""
+
+std::string error_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const Error& error) {
+    return error.what();
+  } catch (const std::exception& other) {
+    ADD_FAILURE() << "expected mvox::Error, got: " << other.what();
+    return "";
+  }
+  ADD_FAILURE() << "expected mvox::Error, nothing was thrown";
+  return "";
+}
+
+struct Layout {
+  const char* name;
+  bool tiled;
+  std::uint32_t rows_per_strip;  // striped pages
+  std::uint16_t compression;
+};
+
+constexpr Layout kLayouts[] = {
+    {"striped, 4 rows per strip", false, 4, COMPRESSION_NONE},
+    {"striped, one row per strip, deflate", false, 1, COMPRESSION_ADOBE_DEFLATE},
+    {"tiled 16x16", true, 0, COMPRESSION_NONE},
+    {"tiled 16x16, LZW", true, 0, COMPRESSION_LZW},
+};
+
+template <typename T>
+std::uint16_t sample_format() {
+  if constexpr (std::is_floating_point_v<T>) return SAMPLEFORMAT_IEEEFP;
+  if constexpr (std::is_signed_v<T>) return SAMPLEFORMAT_INT;
+  return SAMPLEFORMAT_UINT;
+}
+
+// Writes one page of `samples_per_pixel` x `bits` samples (pixels interleaved) and ends its
+// directory; `extra` may set more tags first.
+void write_page(TIFF* tiff, const void* pixels, std::uint32_t width, std::uint32_t height,
+                std::uint16_t bits, std::uint16_t format, std::uint16_t samples_per_pixel,
+                const Layout& layout, const std::function<void(TIFF*)>& extra = {}) {
+  TIFFSetField(tiff, TIFFTAG_IMAGEWIDTH, width);
+  TIFFSetField(tiff, TIFFTAG_IMAGELENGTH, height);
+  TIFFSetField(tiff, TIFFTAG_BITSPERSAMPLE, bits);
+  TIFFSetField(tiff, TIFFTAG_SAMPLEFORMAT, format);
+  TIFFSetField(tiff, TIFFTAG_SAMPLESPERPIXEL, samples_per_pixel);
+  TIFFSetField(tiff, TIFFTAG_PHOTOMETRIC,
+               samples_per_pixel == 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK);
+  TIFFSetField(tiff, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+  TIFFSetField(tiff, TIFFTAG_COMPRESSION, layout.compression);
+  if (extra) extra(tiff);
+  const std::size_t pixel_bytes = std::size_t{bits} / 8 * samples_per_pixel;
+  const auto* bytes = static_cast<const unsigned char*>(pixels);
+  if (!layout.tiled) {
+    TIFFSetField(tiff, TIFFTAG_ROWSPERSTRIP, layout.rows_per_strip);
+    std::vector<unsigned char> row(width * pixel_bytes);
+    for (std::uint32_t y = 0; y < height; ++y) {
+      std::copy(bytes + y * row.size(), bytes + (y + 1) * row.size(), row.begin());
+      ASSERT_EQ(TIFFWriteScanline(tiff, row.data(), y, 0), 1);
+    }
+  } else {
+    constexpr std::uint32_t kTile = 16;
+    TIFFSetField(tiff, TIFFTAG_TILEWIDTH, kTile);
+    TIFFSetField(tiff, TIFFTAG_TILELENGTH, kTile);
+    std::vector<unsigned char> tile(kTile * kTile * pixel_bytes);
+    for (std::uint32_t ty = 0; ty < height; ty += kTile) {
+      for (std::uint32_t tx = 0; tx < width; tx += kTile) {
+        std::fill(tile.begin(), tile.end(), 0xee);  // padding the reader must not copy
+        for (std::uint32_t y = ty; y < std::min(ty + kTile, height); ++y)
+          for (std::uint32_t x = tx; x < std::min(tx + kTile, width); ++x)
+            std::copy_n(bytes + (std::size_t{y} * width + x) * pixel_bytes, pixel_bytes,
+                        tile.begin() + ((y - ty) * kTile + (x - tx)) * pixel_bytes);
+        ASSERT_GE(TIFFWriteTile(tiff, tile.data(), tx, ty, 0, 0), 0);
+      }
+    }
+  }
+  ASSERT_EQ(TIFFWriteDirectory(tiff), 1);
+}
+
+// Writes `depth` pages of `samples` (x fastest, then y, then page).
+template <typename T>
+void write_stack(const std::string& path, const std::vector<T>& samples, std::uint32_t width,
+                 std::uint32_t height, std::uint32_t first_page, std::uint32_t page_count,
+                 const Layout& layout, const std::function<void(TIFF*)>& extra = {}) {
+  TIFF* tiff = TIFFOpen(path.c_str(), "w");
+  ASSERT_NE(tiff, nullptr) << path;
+  const std::size_t page_samples = std::size_t{width} * height;
+  for (std::uint32_t page = first_page; page < first_page + page_count; ++page) {
+    write_page(tiff, samples.data() + page * page_samples, width, height, 8 * sizeof(T),
+               sample_format<T>(), 1, layout, extra);
+  }
+  TIFFClose(tiff);
+}
+
+template <typename T>
+std::vector<T> read_stack(const std::vector<std::string>& inputs, VolumeInfo* info = nullptr) {
+  auto source = open_slice_source(inputs, std::nullopt);
+  if (info) *info = source->info();
+  return test::read_samples<T>(*source);
+}
+
+template <typename T>
+void expect_round_trip(SampleType type) {
+  const std::vector<T> samples = test::phantom_samples<T>(kWidth, kHeight, kDepth);
+  for (const Layout& layout : kLayouts) {
+    SCOPED_TRACE(std::string(sample_type_name(type)) + ", " + layout.name);
+    ScratchDirectory dir;
+    write_stack(dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, layout);
+    VolumeInfo info;
+    EXPECT_EQ(read_stack<T>({dir / "stack.tif"}, &info), samples);
+    EXPECT_EQ(info.width, kWidth);
+    EXPECT_EQ(info.height, kHeight);
+    EXPECT_EQ(info.depth, kDepth);
+    EXPECT_EQ(info.type, type);
+    for (double spacing : info.spacing) EXPECT_EQ(spacing, 1);
+  }
+}
+
+TEST(TiffStack, EveryPageTypeStripedAndTiledRoundTrips) {
+  expect_round_trip<std::uint8_t>(SampleType::u8);
+  expect_round_trip<std::uint16_t>(SampleType::u16);
+  expect_round_trip<std::int16_t>(SampleType::i16);
+  expect_round_trip<float>(SampleType::f32);
+}
+
+// Writes each slice as its own image file with OpenCV, named so that natural order is z order.
+template <typename T>
+std::vector<std::string> write_slice_files(const ScratchDirectory& dir,
+                                           const std::vector<T>& samples, int cv_type,
+                                           const std::string& extension) {
+  std::vector<std::string> files;
+  for (std::uint32_t z = 0; z < kDepth; ++z) {
+    cv::Mat image(kHeight, kWidth, cv_type,
+                  const_cast<T*>(samples.data() + std::size_t{z} * kWidth * kHeight));
+    files.push_back(dir / ("slice" + std::to_string(z) + extension));
+    EXPECT_TRUE(cv::imwrite(files.back(), image)) << files.back();
+  }
+  return files;
+}
+
+template <typename T>
+void expect_mesh_equals_separate_slices(int cv_type, const std::string& extension) {
+  SCOPED_TRACE(extension);
+  const std::vector<T> samples = test::phantom_samples<T>(kWidth, kHeight, kDepth);
+  const double threshold = test::sample_from_density<T>(0.1);
+  ScratchDirectory dir;
+  write_stack(dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[2]);
+  ImageStackSource slices(write_slice_files(dir, samples, cv_type, extension));
+  auto stack = open_slice_source({dir / "stack.tif"}, std::nullopt);
+  const test::Mesh from_stack = test::extract(*stack, threshold);
+  EXPECT_TRUE(test::meshes_identical(from_stack, test::extract(slices, threshold)));
+  EXPECT_GT(from_stack.polygons.size(), 100u);
+  EXPECT_TRUE(test::analyse(from_stack).closed_and_consistent());
+}
+
+TEST(TiffStack, MeshEqualsTheSameSlicesAsSeparateFiles) {
+  expect_mesh_equals_separate_slices<std::uint8_t>(CV_8U, ".png");
+  expect_mesh_equals_separate_slices<std::uint16_t>(CV_16U, ".png");
+  expect_mesh_equals_separate_slices<std::int16_t>(CV_16S, ".tiff");  // OpenCV's TIFF reader
+
+  // OpenCV's image stacks refuse float slices, so float pages are checked against the raw
+  // volume reader on the same samples.
+  const std::vector<float> samples = test::phantom_samples<float>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  write_stack(dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[1]);
+  const std::vector<unsigned char> raw = test::encode_samples(samples, ByteOrder::little);
+  std::ofstream(dir / "volume.raw", std::ios::binary)
+      .write(reinterpret_cast<const char*>(raw.data()), static_cast<std::streamsize>(raw.size()));
+  RawVolumeSource raw_source(dir / "volume.raw", parse_raw_format("37x29x7:f32le"));
+  auto stack = open_slice_source({dir / "stack.tif"}, std::nullopt);
+  const double threshold = test::sample_from_density<float>(0.1);
+  const test::Mesh from_stack = test::extract(*stack, threshold);
+  EXPECT_TRUE(test::meshes_identical(from_stack, test::extract(raw_source, threshold)));
+  EXPECT_GT(from_stack.polygons.size(), 100u);
+}
+
+TEST(TiffStack, SinglePageTiffGivesWhatOpenCvGives) {
+  const std::vector<std::uint16_t> samples =
+      test::phantom_samples<std::uint16_t>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  write_stack(dir / "one.tif", samples, kWidth, kHeight, 3, 1, kLayouts[0]);
+  ImageStackSource opencv({dir / "one.tif"});
+  TiffStackSource libtiff({dir / "one.tif"});
+  const std::vector<std::uint16_t> expected(samples.begin() + 3 * kWidth * kHeight,
+                                            samples.begin() + 4 * kWidth * kHeight);
+  EXPECT_EQ(test::read_samples<std::uint16_t>(libtiff), expected);
+  EXPECT_EQ(test::read_samples<std::uint16_t>(opencv), expected);
+}
+
+TEST(TiffStack, SeveralFilesAreConcatenatedInNaturalOrder) {
+  const std::vector<std::int16_t> samples =
+      test::phantom_samples<std::int16_t>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  fs::create_directories(dir / "parts");
+  // part2 sorts before part10 in natural order, not in plain string order.
+  write_stack(dir / "parts/part1.tif", samples, kWidth, kHeight, 0, 3, kLayouts[0]);
+  write_stack(dir / "parts/part2.tif", samples, kWidth, kHeight, 3, 1, kLayouts[2]);
+  write_stack(dir / "parts/part10.tiff", samples, kWidth, kHeight, 4, 3, kLayouts[1]);
+  VolumeInfo info;
+  EXPECT_EQ(read_stack<std::int16_t>({dir / "parts"}, &info), samples);
+  EXPECT_EQ(info.depth, kDepth);
+}
+
+TEST(TiffStack, ImageJSpacingIsUsedOtherResolutionsAreNot) {
+  const std::vector<std::uint8_t> samples =
+      test::phantom_samples<std::uint8_t>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  write_stack(dir / "imagej.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[0], [](TIFF* tiff) {
+    TIFFSetField(tiff, TIFFTAG_IMAGEDESCRIPTION,
+                 "ImageJ=1.54f\nimages=7\nslices=7\nunit=mm\nspacing=2.5\nloop=false\n");
+    TIFFSetField(tiff, TIFFTAG_XRESOLUTION, 2.0f);  // pixels per mm
+    TIFFSetField(tiff, TIFFTAG_YRESOLUTION, 4.0f);
+    TIFFSetField(tiff, TIFFTAG_RESOLUTIONUNIT, RESUNIT_NONE);
+  });
+  VolumeInfo info;
+  EXPECT_EQ(read_stack<std::uint8_t>({dir / "imagej.tif"}, &info), samples);
+  EXPECT_DOUBLE_EQ(info.spacing[0], 0.5);
+  EXPECT_DOUBLE_EQ(info.spacing[1], 0.25);
+  EXPECT_DOUBLE_EQ(info.spacing[2], 2.5);
+
+  // A scanner's 300 dpi says nothing about voxels.
+  write_stack(dir / "dpi.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[0], [](TIFF* tiff) {
+    TIFFSetField(tiff, TIFFTAG_XRESOLUTION, 300.0f);
+    TIFFSetField(tiff, TIFFTAG_YRESOLUTION, 300.0f);
+    TIFFSetField(tiff, TIFFTAG_RESOLUTIONUNIT, RESUNIT_INCH);
+  });
+  read_stack<std::uint8_t>({dir / "dpi.tif"}, &info);
+  for (double spacing : info.spacing) EXPECT_EQ(spacing, 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Refusals
+
+// A stack of 5 good 8-bit pages in which page `bad_page` (0-based) is written by `write_bad`.
+void write_stack_with_bad_page(const std::string& path, int bad_page,
+                               const std::function<void(TIFF*)>& write_bad) {
+  const std::vector<std::uint8_t> page(kWidth * kHeight, 100);
+  TIFF* tiff = TIFFOpen(path.c_str(), "w");
+  ASSERT_NE(tiff, nullptr);
+  for (int p = 0; p < 5; ++p) {
+    if (p == bad_page) {
+      write_bad(tiff);
+    } else {
+      write_page(tiff, page.data(), kWidth, kHeight, 8, SAMPLEFORMAT_UINT, 1, kLayouts[0]);
+    }
+  }
+  TIFFClose(tiff);
+}
+
+TEST(TiffStack, RefusesBadPagesNamingFileAndPage) {
+  ScratchDirectory dir;
+  const std::vector<std::uint8_t> rgb(kWidth * kHeight * 3, 50);
+  write_stack_with_bad_page(dir / "colour.tif", 2, [&](TIFF* tiff) {
+    write_page(tiff, rgb.data(), kWidth, kHeight, 8, SAMPLEFORMAT_UINT, 3, kLayouts[0]);
+  });
+  EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "colour.tif"}); }),
+                  dir / "colour.tif: page 3 is a colour or multi-sample image (3 samples");
+
+  const std::vector<std::uint8_t> small(20 * kHeight, 1);
+  write_stack_with_bad_page(dir / "size.tif", 1, [&](TIFF* tiff) {
+    write_page(tiff, small.data(), 20, kHeight, 8, SAMPLEFORMAT_UINT, 1, kLayouts[0]);
+  });
+  EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "size.tif"}); }),
+                  dir /
+                      "size.tif: page 2 is 20x29 8-bit unsigned, expected 37x29 8-bit "
+                      "unsigned like page 1");
+
+  const std::vector<std::uint16_t> wide(kWidth * kHeight, 1);
+  write_stack_with_bad_page(dir / "type.tif", 4, [&](TIFF* tiff) {
+    write_page(tiff, wide.data(), kWidth, kHeight, 16, SAMPLEFORMAT_UINT, 1, kLayouts[0]);
+  });
+  EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "type.tif"}); }),
+                  dir / "type.tif: page 5 is 37x29 16-bit unsigned, expected 37x29 8-bit");
+
+  const std::vector<double> doubles(kWidth * kHeight, 1);
+  write_stack_with_bad_page(dir / "double.tif", 0, [&](TIFF* tiff) {
+    write_page(tiff, doubles.data(), kWidth, kHeight, 64, SAMPLEFORMAT_IEEEFP, 1, kLayouts[0]);
+  });
+  EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "double.tif"}); }),
+                  dir / "double.tif: page 1 has 64-bit float samples");
+
+  write_stack_with_bad_page(dir / "palette.tif", 1, [&](TIFF* tiff) {
+    std::vector<std::uint16_t> map(256, 0);
+    TIFFSetField(tiff, TIFFTAG_COLORMAP, map.data(), map.data(), map.data());
+    write_page(tiff, small.data(), kWidth, kHeight, 8, SAMPLEFORMAT_UINT, 1, kLayouts[0],
+               [](TIFF* t) { TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_PALETTE); });
+  });
+  EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "palette.tif"}); }),
+                  dir / "palette.tif: page 2 is a palette colour image");
+
+  // Across files, the first page of the first file sets the format.
+  fs::create_directories(dir / "mixed_sizes");
+  write_stack_with_bad_page(dir / "mixed_sizes/a.tif", -1, {});
+  write_stack_with_bad_page(dir / "mixed_sizes/b.tif", 3, [&](TIFF* tiff) {
+    write_page(tiff, small.data(), 20, kHeight, 8, SAMPLEFORMAT_UINT, 1, kLayouts[0]);
+  });
+  EXPECT_CONTAINS(error_of([&] { open_slice_source({dir / "mixed_sizes"}, std::nullopt); }),
+                  dir / "mixed_sizes/b.tif: page 4 is 20x29 8-bit unsigned, expected 37x29 "
+                        "8-bit unsigned like page 1 of " +
+                      (dir / "mixed_sizes/a.tif"));
+}
+
+// Rewrites, in place, the offset of the first strip of page `page` (0-based) of a little-endian
+// classic TIFF written by libtiff (StripOffsets as LONGs), which libtiff's API cannot set.
+void move_first_strip(const std::string& path, int page, std::uint32_t new_offset) {
+  TIFF* tiff = TIFFOpen(path.c_str(), "r");
+  ASSERT_NE(tiff, nullptr);
+  ASSERT_TRUE(TIFFSetDirectory(tiff, static_cast<tdir_t>(page)));
+  const std::uint64_t directory = TIFFCurrentDirOffset(tiff);
+  TIFFClose(tiff);
+
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  auto read_u16 = [&](std::uint64_t at) {
+    unsigned char b[2];
+    file.seekg(static_cast<std::streamoff>(at));
+    file.read(reinterpret_cast<char*>(b), 2);
+    return static_cast<std::uint16_t>(b[0] | b[1] << 8);
+  };
+  auto read_u32 = [&](std::uint64_t at) {
+    unsigned char b[4];
+    file.seekg(static_cast<std::streamoff>(at));
+    file.read(reinterpret_cast<char*>(b), 4);
+    return static_cast<std::uint32_t>(b[0] | b[1] << 8 | b[2] << 16 |
+                                      static_cast<std::uint32_t>(b[3]) << 24);
+  };
+  ASSERT_EQ(read_u16(0), 0x4949u) << "expected a little-endian (II) TIFF";
+  const std::uint16_t entries = read_u16(directory);
+  for (std::uint16_t i = 0; i < entries; ++i) {
+    const std::uint64_t entry = directory + 2 + 12u * i;
+    if (read_u16(entry) != TIFFTAG_STRIPOFFSETS) continue;
+    ASSERT_EQ(read_u16(entry + 2), TIFF_LONG);
+    // One strip: the offset is in the entry itself; several: the entry points at the array.
+    const std::uint64_t at = read_u32(entry + 4) == 1 ? entry + 8 : read_u32(entry + 8);
+    const unsigned char b[4] = {
+        static_cast<unsigned char>(new_offset), static_cast<unsigned char>(new_offset >> 8),
+        static_cast<unsigned char>(new_offset >> 16), static_cast<unsigned char>(new_offset >> 24)};
+    file.seekp(static_cast<std::streamoff>(at));
+    file.write(reinterpret_cast<const char*>(b), 4);
+    ASSERT_TRUE(file.good());
+    return;
+  }
+  FAIL() << "no StripOffsets in directory " << page;
+}
+
+TEST(TiffStack, RefusesTruncatedFilesBeforeReadingASlice) {
+  const std::vector<std::uint16_t> samples =
+      test::phantom_samples<std::uint16_t>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  write_stack(dir / "whole.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[0]);
+  const auto size = fs::file_size(dir / "whole.tif");
+  // Cut in the middle (later pages and their directories gone), just before the end (the last
+  // directory damaged), and to a bare 8-byte header.
+  for (const std::uintmax_t keep : {size / 2, size - 6, std::uintmax_t{8}}) {
+    SCOPED_TRACE(keep);
+    fs::copy_file(dir / "whole.tif", dir / "cut.tif", fs::copy_options::overwrite_existing);
+    fs::resize_file(dir / "cut.tif", keep);
+    const std::string message = error_of([&] { TiffStackSource source({dir / "cut.tif"}); });
+    EXPECT_EQ(message.rfind(dir / "cut.tif: ", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+
+  // The first strip of page 3 moved past the end of an otherwise intact file.
+  fs::copy_file(dir / "whole.tif", dir / "strip.tif");
+  move_first_strip(dir / "strip.tif", 2, static_cast<std::uint32_t>(size + 1000));
+  EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "strip.tif"}); }),
+                  dir / "strip.tif: page 3: strip 0 ends at byte ");
+}
+
+TEST(TiffStack, MultiPageTiffAmongOtherImagesIsRefused) {
+  const std::vector<std::uint8_t> samples =
+      test::phantom_samples<std::uint8_t>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  write_stack(dir / "a.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[0]);
+  ASSERT_TRUE(cv::imwrite(dir / "b.png", cv::Mat(kHeight, kWidth, CV_8U, cv::Scalar(3))));
+  EXPECT_CONTAINS(error_of([&] { open_slice_source({dir.path().string()}, std::nullopt); }),
+                  dir / "a.tif: is a TIFF stack of 7 pages among other images");
+  // A single-page TIFF among PNG slices is just a slice.
+  write_stack(dir / "a.tif", samples, kWidth, kHeight, 0, 1, kLayouts[0]);
+  auto source = open_slice_source({dir.path().string()}, std::nullopt);
+  EXPECT_EQ(source->info().depth, 2u);
+}
+
+TEST(TiffStackCli, ExtractsAStackAndRefusesATruncatedOne) {
+  const std::vector<std::uint8_t> samples =
+      test::phantom_samples<std::uint8_t>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  write_stack(dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[3]);
+  const test::CommandResult ok =
+      test::run_mvox("extract stack.tif -t 25 -o stack.ply -q --stats stack.json", dir.path());
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_TRUE(fs::exists(dir / "stack.ply"));
+
+  fs::copy_file(dir / "stack.tif", dir / "cut.tif");
+  fs::resize_file(dir / "cut.tif", fs::file_size(dir / "stack.tif") / 3);
+  const std::string before = dir.listing();
+  test::expect_one_line_error(test::run_mvox("extract cut.tif -t 25 -o cut.ply", dir.path()),
+                              "cut.tif");
+  EXPECT_EQ(dir.listing(), before) << "an output or temporary was left behind";
+}
+
+}  // namespace
+}  // namespace mvox
