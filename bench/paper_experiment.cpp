@@ -64,7 +64,7 @@ RunReport pipeline(const PaperDataset& dataset, SurfaceMethod method, const std:
   job.input_label = dataset.name;
   job.threshold = dataset.threshold;
   job.engine = method_options(method);
-  job.ply.spacing = dataset.spacing;
+  for (int axis = 0; axis < 3; ++axis) job.mesh.transform.spacing[axis] = dataset.spacing[axis];
   job.quiet = true;
   job.picture.image_path = folder + "/" + dataset.name + "_" + surface_method_name(method) + ".png";
   job.picture.width = job.picture.height = kImageSide;

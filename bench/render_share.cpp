@@ -241,7 +241,7 @@ RunReport end_to_end(const PaperDataset& dataset, bool picture, const std::strin
   job.input_label = dataset.name;
   job.threshold = dataset.threshold;
   job.output = folder + "/" + dataset.name + ".ply";
-  job.ply.spacing = dataset.spacing;
+  for (int axis = 0; axis < 3; ++axis) job.mesh.transform.spacing[axis] = dataset.spacing[axis];
   job.quiet = true;
   if (picture) job.picture.image_path = folder + "/" + dataset.name + ".png";
   return run_mesh_job(*source, job);

@@ -2,6 +2,7 @@
 // to files and to standard output, chosen by extension or --format, with --triangulate; bad
 // choices are usage errors that leave no file.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <string>
 #include <vector>
@@ -129,6 +130,27 @@ TEST(MeshFormatsCli, ExtensionIgnoresCaseAndFormatWinsOverIt) {
   ASSERT_EQ(with_normals.face_normals.size(), with_normals.faces.size());
   for (std::size_t f = 0; f < with_normals.faces.size(); ++f)
     ASSERT_EQ(with_normals.face_normals[f], with_normals.faces[f]) << "face " << f;
+}
+
+TEST(MeshFormatsCli, DevicesAndPipesWithoutExtensionGetBinaryPly) {
+  ScratchDirectory dir;
+  make_stack(dir);
+  // A regular file without extension is a usage error (below); a device or FIFO is not a name
+  // the user chose, so it gets the native format, as "-" does.
+  expect_success("extract stack -t 128 -q -o /dev/null", dir);
+  ASSERT_EQ(mkfifo((dir / "pipe").c_str(), 0600), 0);
+  // run_mvox prefixes "cd DIR &&", which the & would send to the background with mvox: name
+  // the FIFO by its full path for the reader.
+  const std::string pipe = dir / "pipe";
+  expect_success("extract stack -t 128 -q -o pipe & p=$!; cat '" + pipe + "' > '" +
+                     (dir / "from_pipe.bin") + "'; wait $p",
+                 dir);
+  expect_success("extract stack -t 128 -q -o direct.ply", dir);
+  const PlyMesh piped = read_ply(dir / "from_pipe.bin");
+  const PlyMesh direct = read_ply(dir / "direct.ply");
+  EXPECT_GT(direct.face_count(), 100u);
+  EXPECT_EQ(piped.positions, direct.positions);
+  EXPECT_EQ(piped.face_indices, direct.face_indices);
 }
 
 TEST(MeshFormatsCli, BadFormatChoicesAreUsageErrorsAndWriteNothing) {
