@@ -10,6 +10,7 @@
 #include "mesh_job.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
+#include "termination.h"
 
 namespace mvox {
 namespace {
@@ -59,6 +60,8 @@ std::string input_label(const std::vector<std::string>& inputs) {
 }
 
 void run_extract(const ExtractArguments& args) {
+  // An interrupt while the input is opened (a FIFO waiting for its writer) names it.
+  set_interrupt_subject(input_label(args.inputs));
   std::optional<RawFormat> raw;
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
   // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
