@@ -110,9 +110,22 @@ void add_extract_command(CLI::App& app) {
       ->check(finite_number());
   command->add_option("-o,--output", args->output,
                       "Output PLY file ('-' for standard output); may be left out with --image");
-  command->add_option("--raw", args->raw_spec,
-                      "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
-                      "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le");
+  command
+      ->add_option("--raw", args->raw_spec,
+                   "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
+                   "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le")
+      // Checked while parsing, so that a malformed spec is a usage error (exit 2) like any
+      // other malformed option value.
+      ->check(CLI::Validator(
+          [](std::string& spec) {
+            try {
+              parse_raw_format(spec);
+              return std::string();
+            } catch (const Error& e) {
+              return e.problem();
+            }
+          },
+          "WxH[xD]:TYPE"));
   add_engine_options(*command, args->engine);
   add_ply_options(*command, args->ply);
   command->add_flag("--normals", args->normals,

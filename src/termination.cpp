@@ -76,6 +76,9 @@ void install_termination_handling() {
   static std::once_flag installed;
   std::call_once(installed, [] {
     ::signal(SIGPIPE, SIG_IGN);
+    // A file-size limit (ulimit -f) would kill mvox with its temporaries left behind; ignored,
+    // the write fails with EFBIG and is reported like a full disk.
+    ::signal(SIGXFSZ, SIG_IGN);
     sigset_t signals;
     sigemptyset(&signals);
     for (const int signal_number : kInterruptSignals) {

@@ -26,6 +26,9 @@
 // no message and exit status 141 in the shell, which is what `cat`, `grep` or `sort` give in
 // `... | head`; the reader asked for no more, so an error line would only be noise.
 //
+// FILE-SIZE LIMITS. SIGXFSZ is ignored too: a write beyond `ulimit -f` then fails with EFBIG
+// ("File too large") and unwinds like a full disk, instead of killing mvox mid-write.
+//
 // The registry works without install_termination_handling() too (tests, library users): it
 // then only records, and signals keep their default actions.
 #include <string>
