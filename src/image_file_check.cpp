@@ -63,8 +63,10 @@ std::string png_problem(const unsigned char* bytes, std::size_t size) {
   bool first = true;
   for (;;) {
     if (size - at < 12) {
-      return "truncated PNG: the file ends at byte " + std::to_string(size) +
-             (first ? " before the IHDR chunk" : " before the IEND chunk");
+      const std::string where = size == at
+                                    ? (first ? " before the IHDR chunk" : " before the IEND chunk")
+                                    : " inside the chunk header at byte " + std::to_string(at);
+      return "truncated PNG: the file ends at byte " + std::to_string(size) + where;
     }
     const std::uint32_t length = load_big_endian(bytes + at);
     const unsigned char* type = bytes + at + 4;
