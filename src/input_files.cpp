@@ -93,18 +93,18 @@ void add_directory(const std::string& directory, InputKind kind, std::vector<std
 void add_glob(const std::string& pattern, InputKind kind, std::vector<std::string>& files) {
   glob_t matches{};
   const int result = glob(pattern.c_str(), 0, nullptr, &matches);
+  std::vector<std::string> matched;
+  if (result == 0) matched.assign(matches.gl_pathv, matches.gl_pathv + matches.gl_pathc);
+  globfree(&matches);  // before anything below can throw
   std::size_t added = 0;
-  if (result == 0) {
-    for (std::size_t i = 0; i < matches.gl_pathc; ++i) {
-      const std::string problem = not_a_slice_problem(matches.gl_pathv[i], kind);
-      if (!problem.empty()) throw Error(matches.gl_pathv[i], problem);
-      std::error_code error;
-      if (!fs::is_regular_file(matches.gl_pathv[i], error)) continue;  // a directory
-      files.emplace_back(matches.gl_pathv[i]);
-      ++added;
-    }
+  for (const std::string& match : matched) {
+    const std::string problem = not_a_slice_problem(match, kind);
+    if (!problem.empty()) throw Error(match, problem);
+    std::error_code error;
+    if (!fs::is_regular_file(match, error)) continue;  // a directory
+    files.push_back(match);
+    ++added;
   }
-  globfree(&matches);
   if (result == GLOB_NOSPACE) throw Error(pattern, "out of memory while expanding the pattern");
   if (result == GLOB_ABORTED) throw Error(pattern, "cannot read a directory of the pattern");
   if (added == 0) throw Error(pattern, "no file matches this pattern");
