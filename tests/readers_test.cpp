@@ -307,6 +307,22 @@ TEST(RawFormat, RejectsMalformedSpecsNamingTheOption) {
                   "overflow");
 }
 
+// Found by fuzz/raw_format_fuzzer: a control character in the spec went into the message, and a
+// newline made it two lines.
+TEST(RawFormat, MessagesAreOnePrintableLineWhateverTheSpec) {
+  for (const std::string& spec :
+       {std::string("3x3x3x\x13:u8"), std::string("12x10\n:u8"), std::string("4x4:u8\n"),
+        std::string("4\rx4:u8"), std::string(200, 'x') + ":u8", std::string("1\x7f") + "x1:u8"}) {
+    const std::string message = error_of([&] { parse_raw_format(spec); });
+    EXPECT_EQ(message.rfind("--raw: ", 0), 0u) << message;
+    EXPECT_TRUE(std::all_of(message.begin(), message.end(), [](char c) {
+      return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
+    })) << message;
+    EXPECT_LT(message.size(), 300u) << message;
+  }
+  EXPECT_CONTAINS(error_of([] { parse_raw_format("12x10\n:u8"); }), "\"12x10?:u8\"");
+}
+
 TEST(RawFormat, SwapToNativeGivesTheEncodedValues) {
   for (ByteOrder order : {ByteOrder::little, ByteOrder::big}) {
     std::vector<unsigned char> bytes = encode_u16({0x1234, 0xFEDC, 7}, order);
