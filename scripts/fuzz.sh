@@ -23,10 +23,11 @@ command -v clang++ > /dev/null || {
   exit 1
 }
 
+mkdir -p "$build"
 cmake -S "$repo" -B "$build" -DMVOX_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMVOX_BUILD_TESTS=OFF -DMVOX_BUILD_BENCH=OFF \
-  -DMVOX_LIVE_WINDOW=OFF > "$build.configure.log" 2>&1 || {
-  cat "$build.configure.log" >&2
+  -DMVOX_LIVE_WINDOW=OFF > "$build/configure.log" 2>&1 || {
+  cat "$build/configure.log" >&2
   exit 1
 }
 mapfile -t targets < "$build/fuzz/fuzzers.txt"
