@@ -19,6 +19,20 @@ bool is_existing_non_regular_file(const std::string& path) {
          !std::filesystem::is_directory(status);
 }
 
+// "WxH" or "N" (NxN), 1 to kMaxImageSide per side.
+bool parse_picture_size(const std::string& text, unsigned* width, unsigned* height) {
+  char extra = 0;
+  const int fields = std::sscanf(text.c_str(), "%ux%u%c", width, height, &extra);
+  if (fields == 1 && text.find('x') == std::string::npos) *height = *width;
+  return (fields == 2 || (fields == 1 && *height == *width)) && *width >= 1 && *height >= 1 &&
+         *width <= kMaxImageSide && *height <= kMaxImageSide;
+}
+
+std::string picture_size_problem(const std::string& text) {
+  return "'" + text + "' is not a picture size: give WxH or N, 1 to " +
+         std::to_string(kMaxImageSide) + " pixels per side";
+}
+
 }  // namespace
 
 CLI::Validator finite_number() {
@@ -138,7 +152,15 @@ void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse us
                      extraction ? "Also render the surface into this picture (.png, .pgm, .tif)"
                                 : "The picture to write (.png, .pgm, .tif); same as -o");
   command.add_option("--image-size", choice.size, "Picture size in pixels, WxH or N for NxN")
-      ->capture_default_str();
+      ->capture_default_str()
+      // Checked while parsing: a malformed size is a usage error (exit 2).
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            unsigned width = 0, height = 0;
+            return parse_picture_size(text, &width, &height) ? std::string()
+                                                             : picture_size_problem(text);
+          },
+          "WxH"));
   command
       .add_option("--view", choice.view,
                   "View direction in degrees: AZIMUTH,ELEVATION[,ROLL]. 0,0 looks from the top "
@@ -168,13 +190,8 @@ PictureOptions PictureChoice::options() const {
   PictureOptions result;
   result.image_path = image;
   unsigned width = 0, height = 0;
-  char extra = 0;
-  const int fields = std::sscanf(size.c_str(), "%ux%u%c", &width, &height, &extra);
-  if (fields == 1 && size.find('x') == std::string::npos) height = width;
-  if (!((fields == 2 || (fields == 1 && height == width)) && width >= 1 && height >= 1 &&
-        width <= kMaxImageSide && height <= kMaxImageSide))
-    throw Error("--image-size", "'" + size + "' is not a picture size: give WxH or N, 1 to " +
-                                    std::to_string(kMaxImageSide) + " pixels per side");
+  if (!parse_picture_size(size, &width, &height))
+    throw Error("--image-size", picture_size_problem(size));
   result.width = width;
   result.height = height;
   if (view.size() >= 2) {

@@ -10,6 +10,7 @@
 #include "mesh_job.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
+#include "termination.h"
 #include "volume_files.h"
 
 namespace mvox {
@@ -64,12 +65,14 @@ void run_extract(const ExtractArguments& args) {
   // --raw describes headerless files; a NRRD or MetaImage file describes itself. Asking for
   // both is a usage error (exit 2), found before any file is opened.
   for (const std::string& input : args.inputs) {
-    const HeaderedFormat format = headered_format(input);
-    if (!args.raw_spec.empty() && format != HeaderedFormat::none) {
-      throw CLI::ValidationError("--raw", input + " is a " + headered_format_name(format) +
+    const HeaderedFormat headered = headered_format(input);
+    if (!args.raw_spec.empty() && headered != HeaderedFormat::none) {
+      throw CLI::ValidationError("--raw", input + " is a " + headered_format_name(headered) +
                                               " file with its own header; leave --raw out");
     }
   }
+  // An interrupt while the input is opened (a FIFO waiting for its writer) names it.
+  set_interrupt_subject(input_label(args.inputs));
   std::optional<RawFormat> raw;
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
   // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
@@ -121,9 +124,22 @@ void add_extract_command(CLI::App& app) {
   command->add_option("-o,--output", args->output,
                       "Output mesh: .ply, .stl or .obj ('-' for standard output); may be left "
                       "out with --image");
-  command->add_option("--raw", args->raw_spec,
-                      "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
-                      "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le");
+  command
+      ->add_option("--raw", args->raw_spec,
+                   "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
+                   "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le")
+      // Checked while parsing, so that a malformed spec is a usage error (exit 2) like any
+      // other malformed option value.
+      ->check(CLI::Validator(
+          [](std::string& spec) {
+            try {
+              parse_raw_format(spec);
+              return std::string();
+            } catch (const Error& e) {
+              return e.problem();
+            }
+          },
+          "WxH[xD]:TYPE"));
   add_engine_options(*command, args->engine);
   add_mesh_options(*command, args->mesh);
   command->add_flag("--normals", args->normals,

@@ -1,13 +1,21 @@
 #include "image_stack_source.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <utility>
 
 #include "error.h"
+#include "image_file_check.h"
 
 namespace mvox {
 namespace {
@@ -49,19 +57,77 @@ int to_cv_depth(SampleType type) {
   return -1;
 }
 
-cv::Mat read_image(const std::string& path) {
+// The reason in an OpenCV error text "... error: (-2:Unspecified error) REASON in function
+// 'f'", or "" when the text has no such part.
+std::string opencv_reason(const std::string& text) {
+  const std::size_t code = text.find("error: (");
+  if (code == std::string::npos) return "";
+  const std::size_t start = text.find(") ", code);
+  if (start == std::string::npos) return "";
+  std::size_t end = text.find(" in function", start);
+  if (end == std::string::npos) end = text.find('\n', start);
+  std::string reason = text.substr(start + 2, end == std::string::npos ? end : end - start - 2);
+  // One line, whatever the decoder wrote.
+  for (char& c : reason)
+    if (c == '\n' || c == '\r') c = ' ';
+  return reason;
+}
+
+// The whole file into `bytes` (reused from slice to slice, so it stops growing).
+void read_file(const std::string& path, std::vector<unsigned char>& bytes) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw Error(path, "cannot open: " + errno_text(errno));
+  struct stat status {};
+  const bool regular = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode);
+  // One byte more than the size: the read that finds the end of the file needs room too.
+  bytes.resize((regular ? static_cast<std::size_t>(status.st_size) : 65536) + 1);
+  std::size_t used = 0;
+  for (;;) {
+    if (used == bytes.size()) bytes.resize(2 * bytes.size());
+    const ssize_t got = ::read(fd, bytes.data() + used, bytes.size() - used);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) {
+      const int read_error = errno;
+      ::close(fd);
+      throw Error(path, "read failed: " + errno_text(read_error));
+    }
+    if (got == 0) break;
+    used += static_cast<std::size_t>(got);
+  }
+  ::close(fd);
+  bytes.resize(used);
+}
+
+cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw Error(path, "no such file");
+  read_file(path, bytes);
+  // A truncated PNG or JPEG would make libpng or libjpeg print on standard error, or decode
+  // into a wrong slice (image_file_check.h).
+  const std::string problem = image_file_problem(bytes.data(), bytes.size());
+  if (!problem.empty()) throw Error(path, problem);
   cv::Mat image;
+  // OpenCV reports a decoder's failure on std::cerr ("imdecode_(''): can't read data: ..."),
+  // a line of its own; mvox gives the reason in its one error line instead. Only this thread
+  // decodes, and mvox itself never writes to std::cerr (its messages use stdio).
+  std::stringbuf decoder_messages;
+  std::streambuf* const cerr_buffer = std::cerr.rdbuf(&decoder_messages);
   try {
     // ANYDEPTH keeps 16-bit samples (the default would scale them to 8 bits); ANYCOLOR keeps
-    // the channel count so colour images are detected instead of silently converted.
-    image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    // the channel count so colour images are detected instead of silently converted. The
+    // Mat wraps the bytes without copying them.
+    const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8UC1, bytes.data());
+    if (!bytes.empty()) image = cv::imdecode(encoded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   } catch (const cv::Exception& e) {
+    std::cerr.rdbuf(cerr_buffer);
     throw Error(path, "cannot decode image: " + e.msg);
   }
+  std::cerr.rdbuf(cerr_buffer);
   if (image.empty()) {
-    throw Error(path, "cannot read image (unreadable, corrupt, truncated or not an image format)");
+    const std::string reason = opencv_reason(decoder_messages.str());
+    throw Error(path, reason.empty() ? "cannot read image (unreadable, corrupt, truncated or not "
+                                       "an image format)"
+                                     : "cannot decode image: " + reason);
   }
   return image;
 }
@@ -79,7 +145,7 @@ ImageStackSource::ImageStackSource(std::vector<std::string> files) : files_(std:
 
 void ImageStackSource::load(std::size_t index) {
   const std::string& path = files_[index];
-  const cv::Mat image = read_image(path);
+  const cv::Mat image = read_image(path, file_bytes_);
 
   if (image.channels() != 1) {
     throw Error(path, "colour image (" + std::to_string(image.channels()) +

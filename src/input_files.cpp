@@ -34,6 +34,27 @@ bool is_hidden(const fs::path& path) {
   return !name.empty() && name[0] == '.';
 }
 
+// Why `path`, found in a directory listing or by a pattern, cannot be a slice although it is
+// named like one, or "" when it is a regular file (following symbolic links) or is to be
+// skipped. Skipping a broken slice would silently close the gap it leaves in the volume, so a
+// dangling link, or anything but a regular file or a directory, is an error; so is a directory
+// with a slice image's name. Other directories are skipped: raw slice names have no extension
+// that would tell them from a folder of notes.
+std::string not_a_slice_problem(const fs::path& path, InputKind kind) {
+  std::error_code error;
+  const fs::file_status target = fs::status(path, error);
+  if (fs::is_regular_file(target)) return "";
+  if (fs::is_directory(target)) {
+    return kind == InputKind::image_stack && has_slice_image_extension(path.string())
+               ? "is a directory, not a slice image"
+               : "";
+  }
+  if (target.type() == fs::file_type::not_found && fs::is_symlink(fs::symlink_status(path, error)))
+    return "is a dangling symbolic link: its target does not exist";
+  if (error) return "cannot read: " + error.message();
+  return "is not a regular file (a FIFO, socket or device), not a slice";
+}
+
 // Appends the slice files of `directory` to `files`.
 void add_directory(const std::string& directory, InputKind kind, std::vector<std::string>& files) {
   std::size_t visible_files = 0;
@@ -44,12 +65,18 @@ void add_directory(const std::string& directory, InputKind kind, std::vector<std
   for (fs::directory_iterator entry(directory, error), end; !error && entry != end;
        entry.increment(error)) {
     // is_regular_file follows symbolic links, so a link to a slice counts as that slice.
+    if (is_hidden(entry->path())) continue;
+    const bool named_as_slice =
+        kind == InputKind::raw_files || has_slice_image_extension(entry->path().string());
     std::error_code type_error;
-    if (is_hidden(entry->path()) || !entry->is_regular_file(type_error)) continue;
-    ++visible_files;
-    if (kind == InputKind::image_stack && !has_slice_image_extension(entry->path().string())) {
+    if (!entry->is_regular_file(type_error)) {
+      const std::string problem =
+          named_as_slice ? not_a_slice_problem(entry->path(), kind) : std::string();
+      if (!problem.empty()) throw Error(entry->path().string(), problem);
       continue;
     }
+    ++visible_files;
+    if (!named_as_slice) continue;
     ++slice_files;
     files.push_back(entry->path().string());
   }
@@ -63,19 +90,21 @@ void add_directory(const std::string& directory, InputKind kind, std::vector<std
 }
 
 // Appends the regular files matching `pattern` to `files`.
-void add_glob(const std::string& pattern, std::vector<std::string>& files) {
+void add_glob(const std::string& pattern, InputKind kind, std::vector<std::string>& files) {
   glob_t matches{};
   const int result = glob(pattern.c_str(), 0, nullptr, &matches);
+  std::vector<std::string> matched;
+  if (result == 0) matched.assign(matches.gl_pathv, matches.gl_pathv + matches.gl_pathc);
+  globfree(&matches);  // before anything below can throw
   std::size_t added = 0;
-  if (result == 0) {
-    for (std::size_t i = 0; i < matches.gl_pathc; ++i) {
-      std::error_code error;
-      if (!fs::is_regular_file(matches.gl_pathv[i], error)) continue;
-      files.emplace_back(matches.gl_pathv[i]);
-      ++added;
-    }
+  for (const std::string& match : matched) {
+    const std::string problem = not_a_slice_problem(match, kind);
+    if (!problem.empty()) throw Error(match, problem);
+    std::error_code error;
+    if (!fs::is_regular_file(match, error)) continue;  // a directory
+    files.push_back(match);
+    ++added;
   }
-  globfree(&matches);
   if (result == GLOB_NOSPACE) throw Error(pattern, "out of memory while expanding the pattern");
   if (result == GLOB_ABORTED) throw Error(pattern, "cannot read a directory of the pattern");
   if (added == 0) throw Error(pattern, "no file matches this pattern");
@@ -103,7 +132,7 @@ std::vector<std::string> list_input_files(const std::vector<std::string>& inputs
     } else if (fs::exists(status)) {
       files.push_back(input);
     } else if (is_glob_pattern(input)) {
-      add_glob(input, files);
+      add_glob(input, kind, files);
     } else {
       throw Error(input, "no such file or directory");
     }

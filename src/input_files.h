@@ -22,6 +22,10 @@ bool has_slice_image_extension(const std::string& path);
 // - an existing path: taken as a file as given (no extension filter: the user named it);
 // - a path containing *, ? or [: a POSIX glob(3) pattern; matches that are directories are
 //   skipped, hidden files match only when the pattern says so (glob's own rule).
+// An entry of a directory named like a slice (image_stack: with a slice image extension;
+// raw_files: any non-hidden name), or a match of a pattern, that is a dangling symbolic link,
+// a FIFO, socket or device, or (image_stack) a directory, is an error naming it: skipping it
+// would silently leave a slice out of the volume.
 // Throws mvox::Error naming the input when it does not exist, a pattern matches no file, a
 // directory is empty or holds no slice images, or `inputs` is empty (subject "INPUT").
 std::vector<std::string> list_input_files(const std::vector<std::string>& inputs, InputKind kind);

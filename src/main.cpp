@@ -1,14 +1,32 @@
 // The mvox command line. Exit codes: 0 success, 1 a failure in the job (bad input file, write
 // error, ...), 2 a usage error (unknown option, missing argument). Every failure prints one line
-// on standard error: "mvox: error: SUBJECT: PROBLEM".
+// on standard error: "mvox: error: SUBJECT: PROBLEM". An interrupt (SIGINT, SIGTERM, SIGHUP)
+// exits with 128 + the signal's number, 130 for SIGINT, and a reader that closes an output pipe
+// early ends mvox quietly, as SIGPIPE would (termination.h).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <stdexcept>
 
 #include "commands.h"
 #include "error.h"
+#include "termination.h"
+
+namespace {
+
+// A failed job: one line, unless it failed because the reader of an output pipe went away.
+int job_failure(const std::exception& e, int exit_code) {
+  if (mvox::broken_pipe_noted()) mvox::exit_for_broken_pipe();
+  std::fprintf(stderr, "mvox: error: %s\n", e.what());
+  return exit_code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  // First, before any thread exists: every thread must inherit the blocked interrupt signals.
+  mvox::install_termination_handling();
+  if (argc > 1 && argv[1][0] != '-') mvox::set_interrupt_subject(std::string("mvox ") + argv[1]);
+
   CLI::App app{
       "mvox: surface extraction by marching voxels, streamed two slices at a time in fixed "
       "memory.\nExamples:\n"
@@ -37,14 +55,11 @@ int main(int argc, char** argv) {
                  e.what());
     return 2;
   } catch (const mvox::Error& e) {
-    std::fprintf(stderr, "mvox: error: %s\n", e.what());
-    return 1;
+    return job_failure(e, 1);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "mvox: error: %s\n", e.what());
-    return 2;
+    return job_failure(e, 2);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "mvox: error: %s\n", e.what());
-    return 1;
+    return job_failure(e, 1);
   }
   return 0;
 }

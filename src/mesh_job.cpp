@@ -13,6 +13,7 @@
 #include "pipeline.h"
 #include "prefetching_source.h"
 #include "progress.h"
+#include "termination.h"
 
 namespace mvox {
 
@@ -175,9 +176,13 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     stats_file->write(json.data(), json.size());
     stats_file->seal();
   }
-  if (writer) writer->publish();
-  if (picture) picture->publish();
-  if (stats_file) stats_file->publish();
+  {
+    // An interrupt now waits for the renames, so that the outputs appear all or none.
+    InterruptsDeferred publishing;
+    if (writer) writer->publish();
+    if (picture) picture->publish();
+    if (stats_file) stats_file->publish();
+  }
   if (!job.quiet) print_summary(report);
   return report;
 }

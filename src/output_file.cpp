@@ -11,6 +11,7 @@
 
 #include "error.h"
 #include "mvox/assert.h"
+#include "termination.h"
 
 namespace mvox {
 namespace {
@@ -36,6 +37,7 @@ OutputFile::OutputFile(const std::string& path)
   if (path_.empty()) throw Error("output file", "empty file name");
   if (path_ == "-") {
     writer_.set_fd(STDOUT_FILENO);
+    registration_ = register_direct_output(subject_);
     return;
   }
 
@@ -48,6 +50,7 @@ OutputFile::OutputFile(const std::string& path)
       if (fd < 0) throw Error(subject_, "cannot open for writing: " + errno_text(errno));
       writer_.set_fd(fd);
       owns_fd_ = true;
+      registration_ = register_direct_output(subject_);
       return;
     }
   }
@@ -58,7 +61,8 @@ OutputFile::OutputFile(const std::string& path)
   std::string temp = directory_part(path_) + "." + base + ".XXXXXX";
   std::vector<char> name(temp.begin(), temp.end());
   name.push_back('\0');
-  const int fd = ::mkostemp(name.data(), O_CLOEXEC);
+  // Registered as it is created, so that an interrupt deletes it (termination.h).
+  const int fd = create_output_temporary(name.data(), subject_, &registration_);
   if (fd < 0) throw Error(subject_, "cannot create file: " + errno_text(errno));
   temp_path_ = name.data();
   writer_.set_fd(fd);
@@ -66,7 +70,7 @@ OutputFile::OutputFile(const std::string& path)
   if (::fchmod(fd, default_file_mode()) != 0) {
     const int error = errno;
     close_fd();
-    ::unlink(temp_path_.c_str());
+    discard_output(registration_);
     throw Error(subject_, "cannot create file: " + errno_text(error));
   }
 }
@@ -75,7 +79,8 @@ OutputFile::~OutputFile() {
   // Unflushed bytes are dropped on purpose: a direct target (standard output) gets no more of
   // an output that failed.
   close_fd();
-  if (!committed_ && !temp_path_.empty()) ::unlink(temp_path_.c_str());
+  // Deletes the temporary unless it was published.
+  if (!committed_) discard_output(registration_);
 }
 
 void OutputFile::close_fd() {
@@ -85,6 +90,8 @@ void OutputFile::close_fd() {
 
 void OutputFile::fail_write(int error) {
   failed_ = true;
+  // The reader of a pipe has gone: main ends quietly rather than report it (termination.h).
+  if (error == EPIPE) note_broken_pipe();
   throw Error(subject_, "write failed: " + errno_text(error));
 }
 
@@ -130,9 +137,13 @@ void OutputFile::seal() {
 
 void OutputFile::publish() {
   MVOX_ASSERT(sealed_ && !committed_);
-  if (!temp_path_.empty() && ::rename(temp_path_.c_str(), path_.c_str()) != 0) {
-    failed_ = true;
-    throw Error(subject_, "cannot replace file: " + errno_text(errno));
+  if (!temp_path_.empty()) {
+    if (const int error = publish_output_temporary(registration_, path_)) {
+      failed_ = true;
+      throw Error(subject_, "cannot replace file: " + errno_text(error));
+    }
+  } else {
+    discard_output(registration_);  // a direct target: only forgets the record
   }
   committed_ = true;
 }

@@ -19,6 +19,9 @@ namespace mvox {
 // a FIFO) is opened for writing. Such outputs cannot be overwritten later (can_overwrite() is
 // false) and are not atomic.
 //
+// From creation to publish() or destruction the output is recorded as in progress
+// (termination.h), so that an interrupt deletes the temporary and names the output.
+//
 // Every failure (cannot create, write, sync, close or rename) throws mvox::Error whose subject is
 // the target path ("standard output" for "-"), e.g. "out/mesh.ply: write failed: No space left on
 // device". Writes are buffered (BufferedWriter::kBufferBytes), so a full disk may only be
@@ -73,6 +76,7 @@ class OutputFile {
   std::string subject_;
   std::string temp_path_;  // empty for direct targets
   BufferedWriter writer_;
+  int registration_ = 0;  // the record of this output in progress (termination.h)
   bool owns_fd_ = false;  // false for standard output
   bool failed_ = false;
   bool sealed_ = false;

@@ -94,16 +94,18 @@ struct Header {
 };
 
 // Header text goes into messages; keep it short and printable whatever the file holds.
-std::string quoted(std::string_view text) {
+std::string printable(std::string_view text) {
   constexpr std::size_t kShownChars = 40;
-  std::string result = "\"";
+  std::string result;
   for (std::size_t i = 0; i < text.size() && i < kShownChars; ++i) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
     result += (c >= 0x20 && c < 0x7f) ? static_cast<char>(c) : '?';
   }
   if (text.size() > kShownChars) result += "...";
-  return result + "\"";
+  return result;
 }
+
+std::string quoted(std::string_view text) { return "\"" + printable(text) + "\""; }
 
 // PASS 1: HEADER ------------------------------------------------------------------------------
 
@@ -324,7 +326,8 @@ class Position {
     index_ = index;
   }
   [[noreturn]] void fail(const std::string& problem, const std::string& suffix = {}) const {
-    const std::string where = element_->name + " " + std::to_string(index_);
+    // Element names come from the file: printable, as every header word in a message.
+    const std::string where = printable(element_->name) + " " + std::to_string(index_);
     throw Error(name_, where + suffix + ": " + problem);
   }
   // For problems of the file as a whole, not of one element.
@@ -529,7 +532,8 @@ void parse_body(Cursor& in, Position& position, const Header& header, PlyMesh& m
     // Checked before reserving anything: a header may claim 10^18 elements in a 100-byte file.
     const std::uint64_t min_bytes = Cursor::min_instance_bytes(element);
     if (element.count > 0 && (min_bytes == 0 || element.count > in.remaining() / min_bytes)) {
-      position.fail_file("header declares " + std::to_string(element.count) + " " + element.name +
+      position.fail_file("header declares " + std::to_string(element.count) + " " +
+                         printable(element.name) +
                          " elements, more than the rest of the file can hold");
     }
     if (element.is_vertex) mesh.positions.reserve(element.count);

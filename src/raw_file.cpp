@@ -23,7 +23,8 @@ RawFile::RawFile(const std::string& path) : path_(path) {
     ::close(descriptor_);
     throw Error(path, "is a directory, expected a raw sample file");
   }
-  size_bytes_ = static_cast<std::uint64_t>(status.st_size);
+  is_stream_ = !S_ISREG(status.st_mode);
+  size_bytes_ = is_stream_ ? 0 : static_cast<std::uint64_t>(status.st_size);
 }
 
 RawFile::~RawFile() {
@@ -31,18 +32,23 @@ RawFile::~RawFile() {
 }
 
 void RawFile::expect_size(std::uint64_t expected_bytes, const std::string& what) const {
-  if (size_bytes_ != expected_bytes) {
+  if (!is_stream_ && size_bytes_ != expected_bytes) {
     throw Error(path_, raw_size_problem(size_bytes_, expected_bytes, what));
   }
 }
 
-void RawFile::read_at(std::uint64_t offset, void* bytes, std::size_t byte_count) const {
+void RawFile::read_at(std::uint64_t offset, void* bytes, std::size_t byte_count) {
+  if (is_stream_ && offset != stream_position_)
+    throw Error(path_, "cannot seek in a pipe: reading byte " + std::to_string(offset) +
+                           " after byte " + std::to_string(stream_position_));
   auto* destination = static_cast<char*>(bytes);
   std::size_t done = 0;
-  // pread may return fewer bytes than asked (large requests, signals), so loop until done.
+  // pread and read may return fewer bytes than asked (large requests, signals, a pipe that has
+  // only part of the data yet), so loop until done.
   while (done < byte_count) {
-    const ssize_t got = ::pread(descriptor_, destination + done, byte_count - done,
-                                static_cast<off_t>(offset + done));
+    const ssize_t got = is_stream_ ? ::read(descriptor_, destination + done, byte_count - done)
+                                   : ::pread(descriptor_, destination + done, byte_count - done,
+                                             static_cast<off_t>(offset + done));
     if (got < 0) {
       if (errno == EINTR) continue;
       throw Error(path_, "read failed: " + errno_text(errno));
@@ -52,7 +58,21 @@ void RawFile::read_at(std::uint64_t offset, void* bytes, std::size_t byte_count)
                              std::to_string(offset + byte_count) + " bytes");
     }
     done += static_cast<std::size_t>(got);
+    if (is_stream_) stream_position_ += static_cast<std::uint64_t>(got);
   }
+}
+
+void RawFile::expect_end(std::uint64_t expected_bytes, const std::string& what) {
+  if (!is_stream_) return;
+  char extra = 0;
+  ssize_t got;
+  do {
+    got = ::read(descriptor_, &extra, 1);
+  } while (got < 0 && errno == EINTR);
+  if (got < 0) throw Error(path_, "read failed: " + errno_text(errno));
+  if (got > 0)
+    throw Error(path_, "holds more than the " + std::to_string(expected_bytes) +
+                           " bytes expected for " + what);
 }
 
 std::string raw_size_problem(std::uint64_t actual_bytes, std::uint64_t expected_bytes,

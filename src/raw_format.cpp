@@ -26,8 +26,21 @@ constexpr RawType kRawTypes[] = {
     {"i16be", SampleType::i16, ByteOrder::big}, {"f32le", SampleType::f32, ByteOrder::little},
 };
 
+// User text as it goes into a message: control characters (a newline would start a second
+// line) shown as '?', and long text cut short.
+std::string printable(const std::string& text) {
+  constexpr std::size_t kShownChars = 60;
+  std::string shown;
+  for (std::size_t i = 0; i < text.size() && i < kShownChars; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    shown += (c < 0x20 || c == 0x7f) ? '?' : static_cast<char>(c);
+  }
+  if (text.size() > kShownChars) shown += "...";
+  return shown;
+}
+
 [[noreturn]] void fail(const std::string& spec, const std::string& problem) {
-  throw Error(kSubject, "\"" + spec + "\": " + problem);
+  throw Error(kSubject, "\"" + printable(spec) + "\": " + problem);
 }
 
 [[noreturn]] void fail_syntax(const std::string& spec) {
@@ -40,14 +53,14 @@ constexpr RawType kRawTypes[] = {
 std::uint32_t parse_dimension(const std::string& spec, const std::string& text, const char* axis) {
   if (text.empty()) fail(spec, std::string("missing ") + axis);
   if (!std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-    fail(spec, std::string(axis) + " \"" + text + "\" is not a whole number");
+    fail(spec, std::string(axis) + " \"" + printable(text) + "\" is not a whole number");
   }
   std::uint64_t value = 0;
   for (char c : text) {
     value = value * 10 + static_cast<std::uint64_t>(c - '0');
     // Checked per digit so a long run of digits cannot wrap around.
     if (value > std::numeric_limits<std::uint32_t>::max()) {
-      fail(spec, std::string(axis) + " " + text + " is too large");
+      fail(spec, std::string(axis) + " " + printable(text) + " is too large");
     }
   }
   if (value == 0) fail(spec, std::string(axis) + " must be at least 1");
@@ -95,7 +108,8 @@ RawFormat parse_raw_format(const std::string& spec) {
   const RawType* found = std::find_if(std::begin(kRawTypes), std::end(kRawTypes),
                                       [&](const RawType& t) { return type_name == t.name; });
   if (found == std::end(kRawTypes)) {
-    fail(spec, "unknown sample type \"" + type_name + "\", expected one of " + kTypeList);
+    fail(spec,
+         "unknown sample type \"" + printable(type_name) + "\", expected one of " + kTypeList);
   }
   format.type = found->type;
   format.byte_order = found->order;

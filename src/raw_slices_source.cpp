@@ -38,7 +38,7 @@ RawSlicesSource::RawSlicesSource(std::vector<std::string> files, const RawFormat
 
 bool RawSlicesSource::next_slice(SliceView* slice) {
   if (next_index_ >= files_.size()) return false;
-  const RawFile file(files_[next_index_]);
+  RawFile file(files_[next_index_]);
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
   file.read_at(0, buffer_.data(), buffer_.size());

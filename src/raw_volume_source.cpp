@@ -20,7 +20,15 @@ RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& forma
 }
 
 bool RawVolumeSource::next_slice(SliceView* slice) {
-  if (next_index_ >= format_.depth) return false;
+  if (next_index_ >= format_.depth) {
+    // A pipe's size was not known up front: a longer stream is as wrong as a longer file.
+    if (next_index_ == format_.depth) {
+      file_.expect_end(std::uint64_t{format_.depth} * format_.slice_bytes(),
+                       "a " + raw_format_text(format_) + " volume");
+      ++next_index_;
+    }
+    return false;
+  }
   file_.read_at(std::uint64_t{next_index_} * buffer_.size(), buffer_.data(), buffer_.size());
   *slice = native_slice_view(buffer_, format_);
   ++next_index_;

@@ -13,7 +13,9 @@ namespace mvox {
 
 // The file must hold exactly format.depth * format.slice_bytes() bytes (format.depth >= 1);
 // slice k starts at byte k * format.slice_bytes(). The file stays open; slices are read one at
-// a time at their offset, never the whole volume.
+// a time at their offset, never the whole volume. A pipe or FIFO is read in order, and its
+// length is checked as it arrives: a short one fails at the slice where it ends, a long one
+// after the last slice.
 // info(): format's width, height, depth and type, spacing 1,1,1.
 // Memory: one slice buffer, reused; samples are swapped to native order in place.
 // Throws mvox::Error naming the file when it cannot be opened, has the wrong size, or a read

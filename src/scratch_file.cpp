@@ -10,6 +10,7 @@
 
 #include "error.h"
 #include "output_file.h"
+#include "termination.h"
 
 namespace mvox {
 
@@ -21,14 +22,13 @@ ScratchFile::ScratchFile(const std::string& directory, const std::string& subjec
   temp += ".mvox-scratch.XXXXXX";
   std::vector<char> name(temp.begin(), temp.end());
   name.push_back('\0');
-  const int fd = ::mkostemp(name.data(), O_CLOEXEC);
+  // The open descriptor keeps the data; the name is not needed, and without it nothing is left
+  // behind. Created and unlinked in one step that an interrupt cannot split (termination.h).
+  const int fd = create_nameless_temporary(name.data());
   if (fd < 0) {
     throw Error(subject_,
                 "cannot create temporary file in " + directory + ": " + errno_text(errno));
   }
-  // The open descriptor keeps the data; the name is not needed, and without it nothing is left
-  // behind.
-  ::unlink(name.data());
   writer_.set_fd(fd);
 }
 

@@ -1,5 +1,5 @@
 // The mvox command line end to end: a phantom written as an image stack, extracted from files,
-// read back from PLY by the strict reader; errors as one line, a non-zero exit and no file.
+// read back from PLY by the strict reader. Bad input has its own suite: bad_input_test.cpp.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -179,35 +179,6 @@ TEST(Cli, DemoNeedsNoFilesAndWritesDemoPly) {
   const test::Topology t = test::analyse(to_test_mesh(read_ply(dir / "demo.ply")));
   EXPECT_TRUE(t.closed_and_consistent()) << test::describe(t);
   EXPECT_GE(t.components, 3u);
-}
-
-TEST(Cli, BadInputGivesOneLineNamingTheFileANonZeroExitAndNoOutput) {
-  ScratchDirectory dir;
-  ASSERT_EQ(run_mvox("phantom sphere -o stack --size 12x10x8 -q", dir.path()).exit_code, 0);
-  ASSERT_EQ(run_mvox("phantom sphere -o wide --size 14x10x2 -q", dir.path()).exit_code, 0);
-  std::filesystem::copy_file(dir / "wide/sphere_0000.png", dir / "stack/sphere_0008.png");
-  expect_one_line_error(run_mvox("extract stack -t 128 -o out.ply", dir.path()), "sphere_0008.png");
-  expect_one_line_error(run_mvox("extract missing_dir -t 128 -o out.ply", dir.path()),
-                        "missing_dir");
-  expect_one_line_error(run_mvox("extract wide -t 128 -o no/such/dir/out.ply", dir.path()),
-                        "no/such/dir/out.ply");
-  expect_one_line_error(run_mvox("extract wide -t 128 -o out.ply --raw 3x3:u24", dir.path()),
-                        "--raw");
-  expect_one_line_error(
-      run_mvox("extract wide -t 128 -o out.ply --stats no/dir/s.json", dir.path()),
-      "no/dir/s.json");
-  std::ofstream(dir / "short.raw") << "12345";
-  expect_one_line_error(run_mvox("extract short.raw --raw 4x4x4:u8 -t 1 -o out.ply", dir.path()),
-                        "short.raw");
-  expect_one_line_error(run_mvox("extract wide -t 128 -o out.ply --stats out.ply", dir.path()),
-                        "--stats");
-  expect_one_line_error(run_mvox("extract wide -o out.ply", dir.path()), "--threshold", 2);
-  expect_one_line_error(run_mvox("extract wide -t nan -o out.ply", dir.path()), "--threshold", 2);
-  expect_one_line_error(run_mvox("extract wide -t 1 -o out.ply --engine quick", dir.path()),
-                        "--engine", 2);
-  // A phantom into a folder that holds slices would silently mix two stacks.
-  expect_one_line_error(run_mvox("phantom torus -o stack --size 12x10x3 -q", dir.path()), "stack");
-  EXPECT_EQ(dir.listing(), "short.raw stack wide ");  // no output, no temporary left behind
 }
 
 TEST(Cli, HelpListsTheCommandsAndOptions) {

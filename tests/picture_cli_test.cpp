@@ -151,7 +151,7 @@ TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
   expect_one_line_error(run_mvox("extract stack -t 128 --image out", dir.path()), "out");
   expect_one_line_error(run_mvox("extract stack -t 128", dir.path()), "nothing to write");
   expect_one_line_error(run_mvox("extract stack -t 128 --image a.png --image-size 0x9", dir.path()),
-                        "--image-size");
+                        "--image-size", 2);
   expect_one_line_error(run_mvox("extract stack -t 128 --image a.png --every 0", dir.path()),
                         "--every", 2);
   expect_one_line_error(run_mvox("extract stack -t 128 --image a.png --view 1,2,3,4", dir.path()),

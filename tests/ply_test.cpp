@@ -919,6 +919,34 @@ TEST(PlyReader, SingleByteCorruptionsNeverCrash) {
   EXPECT_GT(refused, 0u);
 }
 
+// Found by fuzz/ply_reader_fuzzer: an element's name went into messages as the file had it, so
+// a control character, or a carriage return, reached the terminal.
+TEST(PlyReader, MessagesArePrintableWhateverTheElementNames) {
+  const std::string name = std::string("fac\x01\x1b[2J\r") + std::string(60, '\xa3');
+  const std::string files[] = {
+      // An instance of the element fails ...
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nelement " +
+          name + " 1\nproperty int a\nend_header\n0 0 0\nnot-a-number\n",
+      // ... or its count does not fit in the file.
+      "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+      "property float z\nelement " +
+          name + " 99\nproperty int a\nend_header\n"};
+  for (const std::string& file : files) {
+    std::string message;
+    try {
+      parse(file);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    ASSERT_FALSE(message.empty());
+    for (const char c : message)
+      EXPECT_TRUE(c >= 0x20 && c < 0x7f)
+          << "byte " << int(static_cast<unsigned char>(c)) << " in " << message;
+    EXPECT_NE(message.find("fac??[2J??"), std::string::npos) << message;
+  }
+}
+
 TEST(PlyReader, FileErrorsNameThePath) {
   TempDir dir;
   const std::string missing = dir.file("missing.ply");

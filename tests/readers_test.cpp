@@ -307,6 +307,22 @@ TEST(RawFormat, RejectsMalformedSpecsNamingTheOption) {
                   "overflow");
 }
 
+// Found by fuzz/raw_format_fuzzer: a control character in the spec went into the message, and a
+// newline made it two lines.
+TEST(RawFormat, MessagesAreOnePrintableLineWhateverTheSpec) {
+  for (const std::string& spec :
+       {std::string("3x3x3x\x13:u8"), std::string("12x10\n:u8"), std::string("4x4:u8\n"),
+        std::string("4\rx4:u8"), std::string(200, 'x') + ":u8", std::string("1\x7f") + "x1:u8"}) {
+    const std::string message = error_of([&] { parse_raw_format(spec); });
+    EXPECT_EQ(message.rfind("--raw: ", 0), 0u) << message;
+    EXPECT_TRUE(std::all_of(message.begin(), message.end(), [](char c) {
+      return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
+    })) << message;
+    EXPECT_LT(message.size(), 300u) << message;
+  }
+  EXPECT_CONTAINS(error_of([] { parse_raw_format("12x10\n:u8"); }), "\"12x10?:u8\"");
+}
+
 TEST(RawFormat, SwapToNativeGivesTheEncodedValues) {
   for (ByteOrder order : {ByteOrder::little, ByteOrder::big}) {
     std::vector<unsigned char> bytes = encode_u16({0x1234, 0xFEDC, 7}, order);
@@ -387,6 +403,32 @@ TEST(InputFiles, RefusalsNameTheInput) {
   // The same directory is fine for raw slices.
   EXPECT_EQ(list_input_files({dir / "no_images"}, InputKind::raw_files).size(), 2u);
   EXPECT_CONTAINS(error_of([] { list_input_files({}, InputKind::image_stack); }), "INPUT");
+}
+
+TEST(InputFiles, EntriesNamedLikeSlicesThatAreNoFilesAreRefusedNotSkipped) {
+  TempDir dir;
+  touch(dir / "stack/s1.png");
+  touch(dir / "stack/s3.png");
+  fs::create_directories(dir / "stack/notes");  // no slice name: skipped
+  EXPECT_EQ(list_input_files({dir / "stack"}, InputKind::image_stack).size(), 2u);
+  // Skipping these would close the gap of a lost slice without a word.
+  fs::create_symlink(dir / "gone.png", dir / "stack/s2.png");
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "stack"}, InputKind::image_stack); }),
+                  dir / "stack/s2.png: is a dangling symbolic link");
+  EXPECT_CONTAINS(
+      error_of([&] { list_input_files({dir / "stack/s*.png"}, InputKind::image_stack); }),
+      dir / "stack/s2.png: is a dangling symbolic link");
+  fs::remove(dir / "stack/s2.png");
+  fs::create_directories(dir / "stack/s2.png");
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "stack"}, InputKind::image_stack); }),
+                  dir / "stack/s2.png: is a directory");
+  // Raw slices have no extension: any dangling name counts, a directory is skipped.
+  touch(dir / "raw/CThead.1");
+  fs::create_directories(dir / "raw/CThead.2");
+  EXPECT_EQ(list_input_files({dir / "raw"}, InputKind::raw_files).size(), 1u);
+  fs::create_symlink(dir / "gone", dir / "raw/CThead.3");
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "raw"}, InputKind::raw_files); }),
+                  dir / "raw/CThead.3: is a dangling symbolic link");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -536,7 +578,25 @@ TEST(ImageStack, RefusesCorruptAndTruncatedImages) {
   ASSERT_TRUE(cv::imwrite(dir / "truncated/s2.png", noise));
   fs::resize_file(dir / "truncated/s2.png", fs::file_size(dir / "truncated/s2.png") / 2);
   EXPECT_CONTAINS(error_of([&] { read_through({dir / "truncated"}, std::nullopt); }),
-                  dir / "truncated/s2.png: cannot read image");
+                  dir / "truncated/s2.png: truncated PNG: the file ends at byte");
+
+  // libjpeg would decode a truncated JPEG into a grey bottom with only a warning.
+  fs::create_directories(dir / "truncated_jpeg");
+  cv::Mat noise8(64, 64, CV_8U);
+  cv::randu(noise8, 0, 255);
+  ASSERT_TRUE(cv::imwrite(dir / "truncated_jpeg/s1.jpg", noise8));
+  ASSERT_TRUE(cv::imwrite(dir / "truncated_jpeg/s2.jpg", noise8));
+  fs::resize_file(dir / "truncated_jpeg/s2.jpg", fs::file_size(dir / "truncated_jpeg/s2.jpg") - 2);
+  EXPECT_CONTAINS(error_of([&] { read_through({dir / "truncated_jpeg"}, std::nullopt); }),
+                  dir / "truncated_jpeg/s2.jpg: truncated JPEG");
+  // OpenCV's own readers say why, in the one message.
+  fs::create_directories(dir / "truncated_pgm");
+  ASSERT_TRUE(cv::imwrite(dir / "truncated_pgm/s1.pgm", noise8));
+  ASSERT_TRUE(cv::imwrite(dir / "truncated_pgm/s2.pgm", noise8));
+  fs::resize_file(dir / "truncated_pgm/s2.pgm", fs::file_size(dir / "truncated_pgm/s2.pgm") / 2);
+  EXPECT_CONTAINS(
+      error_of([&] { read_through({dir / "truncated_pgm"}, std::nullopt); }),
+      dir / "truncated_pgm/s2.pgm: cannot decode image: Unexpected end of input stream");
 
   const std::string text = "this is not an image";
   write_bytes(dir / "garbage/s1.png", std::vector<unsigned char>(text.begin(), text.end()));

@@ -387,8 +387,11 @@ class VertexTails {
       unsigned char bytes[8] = {};  // the padding too: zero whichever path wrote the vertex
       const bool inner_is_lower = inner != 0;
       std::memcpy(bytes, &z, sizeof z);
-      std::memcpy(bytes + offsetof(Vertex, axis) - kOffset, &axis, sizeof axis);
-      std::memcpy(bytes + offsetof(Vertex, inner_is_lower) - kOffset, &inner_is_lower,
+      // Offsets within the tail subtracted first: bytes + offsetof(...) alone would point past
+      // the array, which is undefined behaviour even when the result is brought back in bounds
+      // (found by fuzz/raw_reader_fuzzer under clang's UndefinedBehaviorSanitizer).
+      std::memcpy(bytes + (offsetof(Vertex, axis) - kOffset), &axis, sizeof axis);
+      std::memcpy(bytes + (offsetof(Vertex, inner_is_lower) - kOffset), &inner_is_lower,
                   sizeof inner_is_lower);
       std::memcpy(&tails_[inner], bytes, 8);
     }
