@@ -119,6 +119,10 @@ MeshFormat MeshChoice::format_for(const std::string& output) const {
   // Standard output, devices and pipes (/dev/null, a FIFO) have no extension to go by: like
   // "-", they get the native format.
   if (!chosen && (output == "-" || is_existing_non_regular_file(output))) chosen = MeshFormat::ply;
+  // An existing directory is not a place for a mesh whatever its name: say that (exit 1, when
+  // the file cannot be created) rather than ask for an extension.
+  std::error_code error;
+  if (!chosen && std::filesystem::is_directory(output, error)) chosen = MeshFormat::ply;
   if (!chosen)
     throw CLI::ValidationError("--output", "'" + output +
                                                "' does not end in .ply, .stl or .obj; use one "

@@ -22,7 +22,7 @@ struct InflateReader::Stream {
   z_stream z{};
 };
 
-InflateReader::InflateReader(const RawFile& file, std::uint64_t offset, std::uint64_t end)
+InflateReader::InflateReader(RawFile& file, std::uint64_t offset, std::uint64_t end)
     : file_(file),
       stream_(std::make_unique<Stream>()),
       input_(kInputBytes),
@@ -112,7 +112,7 @@ std::uint64_t InflateReader::discard(std::uint64_t count) {
   return done;
 }
 
-std::optional<std::uint32_t> gzip_trailer_size(const RawFile& file, std::uint64_t offset,
+std::optional<std::uint32_t> gzip_trailer_size(RawFile& file, std::uint64_t offset,
                                                std::uint64_t end) {
   constexpr std::uint64_t kSmallestGzip = 18;  // 10-byte header, empty deflate, 8-byte trailer
   if (end < offset || end - offset < kSmallestGzip) return std::nullopt;

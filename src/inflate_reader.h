@@ -16,7 +16,7 @@ class InflateReader {
   // The compressed bytes are [offset, end) of `file`; `file` must outlive the reader. zlib and
   // gzip are told apart by their headers; gzip files of several members (concatenated .gz)
   // are read as one stream. Throws mvox::Error if zlib cannot start (out of memory).
-  InflateReader(const RawFile& file, std::uint64_t offset, std::uint64_t end);
+  InflateReader(RawFile& file, std::uint64_t offset, std::uint64_t end);
   ~InflateReader();
   InflateReader(const InflateReader&) = delete;
   InflateReader& operator=(const InflateReader&) = delete;
@@ -39,7 +39,7 @@ class InflateReader {
   bool refill();  // more compressed input; false at `end_`
 
   struct Stream;  // zlib's z_stream, kept out of this header
-  const RawFile& file_;
+  RawFile& file_;
   std::unique_ptr<Stream> stream_;
   std::vector<unsigned char> input_;
   std::uint64_t next_input_offset_;
@@ -52,7 +52,7 @@ class InflateReader {
 // `file` records in its last four bytes, or nothing when [offset, end) does not start like gzip.
 // A cheap check that needs no decompression; the trailer of a truncated file is garbage, so a
 // mismatch only means "look closer".
-std::optional<std::uint32_t> gzip_trailer_size(const RawFile& file, std::uint64_t offset,
+std::optional<std::uint32_t> gzip_trailer_size(RawFile& file, std::uint64_t offset,
                                                std::uint64_t end);
 
 }  // namespace mvox

@@ -15,7 +15,7 @@ namespace {
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
 
 // The offset just past `line_count` newlines counted from `offset` in `file`.
-std::uint64_t skip_lines(const RawFile& file, std::uint64_t offset, std::uint64_t line_count) {
+std::uint64_t skip_lines(RawFile& file, std::uint64_t offset, std::uint64_t line_count) {
   std::string chunk(64 * 1024, '\0');
   std::uint64_t position = offset;
   std::uint64_t lines = 0;
@@ -40,7 +40,7 @@ std::uint64_t skip_lines(const RawFile& file, std::uint64_t offset, std::uint64_
 }  // namespace
 
 std::unique_ptr<SliceSource> open_nrrd_volume(const std::string& path) {
-  const RawFile header_file(path);
+  RawFile header_file(path);
   const std::string text = read_file_start(header_file, kMaxHeaderBytes);
   if (header_file.size_bytes() > text.size() && text.find("\n\n") == std::string::npos &&
       text.find("\n\r\n") == std::string::npos) {
@@ -58,7 +58,7 @@ std::unique_ptr<SliceSource> open_nrrd_volume(const std::string& path) {
     data.path = resolve_data_file(path, header.data_file);
   }
   if (header.line_skip > 0) {
-    const RawFile data_file(data.path);
+    RawFile data_file(data.path);
     data.offset = skip_lines(data_file, data.offset, header.line_skip);
   }
   if (header.volume.compression == Compression::none) {

@@ -122,7 +122,7 @@ bool StoredVolumeSource::next_slice(SliceView* slice) {
   return true;
 }
 
-std::string read_file_start(const RawFile& file, std::size_t max_bytes) {
+std::string read_file_start(RawFile& file, std::size_t max_bytes) {
   const std::size_t count =
       static_cast<std::size_t>(std::min<std::uint64_t>(file.size_bytes(), max_bytes));
   std::string text(count, '\0');

@@ -59,7 +59,7 @@ class StoredVolumeSource : public SliceSource {
 };
 
 // The first min(file size, max_bytes) bytes of `file`, where a text header is.
-std::string read_file_start(const RawFile& file, std::size_t max_bytes);
+std::string read_file_start(RawFile& file, std::size_t max_bytes);
 
 // `data_file` as named in the header `header_path`: relative names are relative to the
 // header's directory. Throws mvox::Error naming the header when the file does not exist.

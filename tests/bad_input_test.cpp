@@ -353,8 +353,8 @@ TEST_F(BadInput, FileSizeLimit) {
 TEST_F(BadInput, OutputsThatCollide) {
   expect_refused("extract stack -t 128 -o previous.ply --stats previous.ply", "previous.ply",
                  "is both the mesh output and the --stats report");
-  expect_refused("extract stack -t 128 -o previous.png --image previous.png", "previous.png",
-                 "is both the mesh output and the image");
+  expect_refused("extract stack -t 128 -o previous.png --format ply --image previous.png",
+                 "previous.png", "is both the mesh output and the image");
   expect_refused("extract stack -t 128 -q", "stack", "nothing to write");
   // A phantom into a folder that holds slices would silently mix two stacks.
   expect_refused("phantom torus -o stack --size 12x10x3 -q", "stack", "already exists");
