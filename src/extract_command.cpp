@@ -17,6 +17,7 @@ namespace {
 struct ExtractArguments {
   std::vector<std::string> inputs;
   std::string raw_spec;
+  DicomChoice dicom;
   double threshold = 0;
   std::string output;
   std::string stats_path;
@@ -63,9 +64,15 @@ void run_extract(const ExtractArguments& args) {
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
   // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
   const auto open_start = std::chrono::steady_clock::now();
-  std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw);
+  // Notes about the input (which DICOM series, fallbacks) wait until it has been accepted, so
+  // that a refusal before the run stays one line.
+  std::vector<std::string> notes;
+  DicomChoice dicom = args.dicom;
+  if (!args.quiet) dicom.note = [&notes](const std::string& line) { notes.push_back(line); };
+  std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw, dicom);
   const VolumeInfo& info = source->info();
   check_threshold_range(input_label(args.inputs), info.type, args.threshold);
+  for (const std::string& line : notes) std::fprintf(stderr, "mvox: note: %s\n", line.c_str());
 
   MeshJob job;
   job.source_open_s =
@@ -100,7 +107,8 @@ void add_extract_command(CLI::App& app) {
   command
       ->add_option("INPUT", args->inputs,
                    "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images, raw slice "
-                   "files, or one raw volume file (with --raw)")
+                   "files, one raw volume file (with --raw), or a DICOM series (a directory or "
+                   "files; recognised by content)")
       ->required();
   command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
       ->required()
@@ -110,6 +118,11 @@ void add_extract_command(CLI::App& app) {
   command->add_option("--raw", args->raw_spec,
                       "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
                       "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le");
+  command->add_flag("--dicom", args->dicom.force,
+                    "Read INPUT as DICOM even without the DICM preamble or a .dcm name");
+  command->add_option("--series", args->dicom.series_uid,
+                      "DICOM: the SeriesInstanceUID to read (default: the series with the most "
+                      "slices)");
   add_engine_options(*command, args->engine);
   add_ply_options(*command, args->ply);
   command->add_flag("--normals", args->normals,

@@ -1,0 +1,443 @@
+#include "dicom_file_scan.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+#include "error.h"
+
+namespace mvox {
+namespace {
+
+constexpr std::uint32_t kItem = dicom_tag(0xFFFE, 0xE000);
+constexpr std::uint32_t kItemDelimiter = dicom_tag(0xFFFE, 0xE00D);
+constexpr std::uint32_t kSequenceDelimiter = dicom_tag(0xFFFE, 0xE0DD);
+constexpr std::uint32_t kPixelData = dicom_tag(0x7FE0, 0x0010);
+constexpr std::uint32_t kMediaStorageSopClassUid = dicom_tag(0x0002, 0x0002);
+constexpr std::uint32_t kTransferSyntaxUid = dicom_tag(0x0002, 0x0010);
+constexpr std::uint32_t kUndefinedLength = 0xFFFFFFFF;
+constexpr std::uint64_t kNoEnd = ~std::uint64_t{0};
+constexpr int kMaxDepth = 32;
+// Values kept for the caller are short (UIDs, numbers, codes); a longer one is not what we want.
+constexpr std::uint32_t kMaxKeptValueBytes = 1024;
+
+constexpr const char* kImplicitLittleEndian = "1.2.840.10008.1.2";
+constexpr const char* kExplicitLittleEndian = "1.2.840.10008.1.2.1";
+constexpr const char* kExplicitBigEndian = "1.2.840.10008.1.2.2";
+constexpr const char* kDeflatedLittleEndian = "1.2.840.10008.1.2.1.99";
+
+// Thrown inside the walk; scan_dicom_file turns it into an Error or "not DICOM".
+struct Malformed {
+  std::string problem;
+  bool truncated = false;  // the file ends too early, rather than holding wrong bytes
+};
+
+// A read-only file with an exact position and size, so that every length can be checked against
+// what is left before anything is read or skipped. Reads go through a window of the file, so that
+// the walk's many small reads, peeks and skips over short values cost no system call; only a
+// skip past the window (over pixel data) makes the next read fetch another.
+class FileBytes {
+ public:
+  explicit FileBytes(const std::string& path) : file_(std::fopen(path.c_str(), "rb")) {
+    if (!file_) throw Error(path, "cannot open file: " + errno_text(errno));
+    std::error_code error;
+    size_ = std::filesystem::file_size(path, error);
+    if (error) {
+      std::fclose(file_);
+      throw Error(path, "cannot read file size: " + error.message());
+    }
+  }
+  ~FileBytes() { std::fclose(file_); }
+  FileBytes(const FileBytes&) = delete;
+  FileBytes& operator=(const FileBytes&) = delete;
+
+  std::uint64_t size() const { return size_; }
+  std::uint64_t position() const { return position_; }
+  std::uint64_t left() const { return size_ - position_; }
+
+  bool read(void* destination, std::size_t count) {
+    if (count > left()) return false;
+    auto* out = static_cast<unsigned char*>(destination);
+    while (count > 0) {
+      if (position_ < window_start_ || position_ >= window_start_ + window_bytes_) {
+        if (!fill()) return false;
+      }
+      const std::size_t offset = static_cast<std::size_t>(position_ - window_start_);
+      const std::size_t chunk = std::min(count, window_bytes_ - offset);
+      std::memcpy(out, window_.data() + offset, chunk);
+      out += chunk;
+      count -= chunk;
+      position_ += chunk;
+    }
+    return true;
+  }
+  bool seek(std::uint64_t position) {
+    if (position > size_) return false;
+    position_ = position;
+    return true;
+  }
+
+ private:
+  // Loads the window starting at position_.
+  bool fill() {
+    if (fseeko(file_, static_cast<off_t>(position_), SEEK_SET) != 0) return false;
+    window_bytes_ = std::fread(window_.data(), 1, window_.size(), file_);
+    window_start_ = position_;
+    return window_bytes_ > 0;
+  }
+
+  std::FILE* file_;
+  std::uint64_t size_ = 0;
+  std::uint64_t position_ = 0;
+  std::vector<unsigned char> window_ = std::vector<unsigned char>(64 * 1024);
+  std::uint64_t window_start_ = 0;
+  std::size_t window_bytes_ = 0;
+};
+
+struct Encoding {
+  bool explicit_vr = true;
+  bool big_endian = false;
+};
+
+bool is_vr_letter(unsigned char c) { return c >= 'A' && c <= 'Z'; }
+
+// VRs whose explicit encoding has two reserved bytes and a 32-bit length (PS3.5 7.1.2).
+bool has_long_length(const char vr[2]) {
+  static const char* const kLong[] = {"OB", "OD", "OF", "OL", "OV", "OW", "SQ",
+                                      "SV", "UC", "UN", "UR", "UT", "UV"};
+  return std::any_of(std::begin(kLong), std::end(kLong),
+                     [&](const char* v) { return vr[0] == v[0] && vr[1] == v[1]; });
+}
+
+class Walker {
+ public:
+  Walker(FileBytes& file, const std::uint32_t* wanted, std::size_t wanted_count,
+         DicomFileScan& scan)
+      : file_(file), wanted_(wanted), wanted_count_(wanted_count), scan_(scan) {}
+
+  // The file meta group: explicit VR little endian whatever the transfer syntax (PS3.10 7.1).
+  void meta_group() {
+    const Encoding meta{true, false};
+    while (peek_group(meta) == 0x0002) {
+      const Header h = header(meta);
+      if (h.length == kUndefinedLength) fail(h, "has an undefined length in the file meta group");
+      need(h, h.length);
+      if ((h.tag == kTransferSyntaxUid || h.tag == kMediaStorageSopClassUid) &&
+          h.length <= kMaxKeptValueBytes) {
+        std::string uid(h.length, '\0');
+        if (!file_.read(uid.data(), uid.size())) fail(h, "cannot be read");
+        while (!uid.empty() && (uid.back() == '\0' || uid.back() == ' ')) uid.pop_back();
+        (h.tag == kTransferSyntaxUid ? scan_.transfer_syntax_uid
+                                     : scan_.media_storage_sop_class_uid) = uid;
+      } else {
+        skip(h, h.length);
+      }
+    }
+  }
+
+  // The main data set, from here to the end of the file.
+  void data_set(Encoding encoding) { elements(encoding, kNoEnd, 0, false); }
+
+  // Reads the first bytes of a data set without a meta group and says how it is encoded, or
+  // that it does not look like DICOM at all.
+  std::optional<Encoding> guess_bare_encoding() {
+    unsigned char bytes[8];
+    const std::uint64_t start = file_.position();
+    if (!file_.read(bytes, sizeof bytes)) return std::nullopt;
+    file_.seek(start);
+    const std::uint16_t group = static_cast<std::uint16_t>(bytes[0] | bytes[1] << 8);
+    if (group != 0x0000 && group != 0x0008) return std::nullopt;
+    if (is_vr_letter(bytes[4]) && is_vr_letter(bytes[5])) return Encoding{true, false};
+    return Encoding{false, false};
+  }
+
+  // Some writers declare explicit VR little endian but encode the data set implicitly; GDCM reads
+  // those, so the walk follows the first element's bytes rather than the declaration.
+  bool next_element_has_vr() {
+    unsigned char bytes[6];
+    const std::uint64_t start = file_.position();
+    if (!file_.read(bytes, sizeof bytes)) return true;
+    file_.seek(start);
+    return is_vr_letter(bytes[4]) && is_vr_letter(bytes[5]);
+  }
+
+ private:
+  struct Header {
+    std::uint32_t tag = 0;
+    char vr[2] = {0, 0};  // explicit VR only
+    std::uint32_t length = 0;
+    std::uint64_t offset = 0;  // of the element's first byte
+  };
+
+  [[noreturn]] void fail(const Header& h, const std::string& problem) {
+    throw Malformed{"element " + dicom_tag_text(h.tag) + " at byte " + std::to_string(h.offset) +
+                    " " + problem};
+  }
+  [[noreturn]] void truncated(const Header& h) {
+    throw Malformed{"element " + dicom_tag_text(h.tag) + " at byte " + std::to_string(h.offset) +
+                        " is cut off by the end of the file (" + std::to_string(file_.size()) +
+                        " bytes)",
+                    true};
+  }
+
+  std::uint16_t u16(const unsigned char* b, const Encoding& e) const {
+    return e.big_endian ? static_cast<std::uint16_t>(b[0] << 8 | b[1])
+                        : static_cast<std::uint16_t>(b[1] << 8 | b[0]);
+  }
+  std::uint32_t u32(const unsigned char* b, const Encoding& e) const {
+    return e.big_endian ? std::uint32_t{b[0]} << 24 | std::uint32_t{b[1]} << 16 |
+                              std::uint32_t{b[2]} << 8 | b[3]
+                        : std::uint32_t{b[3]} << 24 | std::uint32_t{b[2]} << 16 |
+                              std::uint32_t{b[1]} << 8 | b[0];
+  }
+
+  // The group of the next element, or 0xFFFF at the end of the file (no element follows).
+  std::uint16_t peek_group(const Encoding& e) {
+    unsigned char bytes[2];
+    const std::uint64_t start = file_.position();
+    if (!file_.read(bytes, 2)) return 0xFFFF;
+    file_.seek(start);
+    return u16(bytes, e);
+  }
+
+  // Reads an element header: tag, VR when explicit, value length. Item tags (FFFE,xxxx) have
+  // no VR in any encoding.
+  Header header(const Encoding& e) {
+    Header h;
+    h.offset = file_.position();
+    unsigned char bytes[8];
+    if (!file_.read(bytes, 4)) {
+      h.tag = 0;
+      throw Malformed{std::to_string(file_.left()) +
+                          " stray bytes where an element should start, at byte " +
+                          std::to_string(h.offset),
+                      true};
+    }
+    h.tag = std::uint32_t{u16(bytes, e)} << 16 | u16(bytes + 2, e);
+    if ((h.tag >> 16) == 0xFFFE || !e.explicit_vr) {
+      if (!file_.read(bytes, 4)) truncated(h);
+      h.length = u32(bytes, e);
+      return h;
+    }
+    if (!file_.read(bytes, 4)) truncated(h);
+    if (!is_vr_letter(bytes[0]) || !is_vr_letter(bytes[1])) fail(h, "has no valid VR");
+    h.vr[0] = static_cast<char>(bytes[0]);
+    h.vr[1] = static_cast<char>(bytes[1]);
+    if (has_long_length(h.vr)) {
+      if (!file_.read(bytes, 4)) truncated(h);
+      h.length = u32(bytes, e);
+    } else {
+      h.length = u16(bytes + 2, e);
+    }
+    return h;
+  }
+
+  // The value of `h` must fit before `end` and in the file.
+  void need(const Header& h, std::uint64_t length, std::uint64_t end = kNoEnd) {
+    if (length > file_.left()) truncated(h);
+    if (end != kNoEnd && file_.position() + length > end)
+      fail(h, "runs past the end of the item that holds it");
+  }
+  void skip(const Header& h, std::uint64_t length) {
+    if (!file_.seek(file_.position() + length)) truncated(h);
+  }
+
+  bool is_sequence(const Header& h, const Encoding& e) const {
+    return e.explicit_vr && h.vr[0] == 'S' && h.vr[1] == 'Q';
+  }
+  bool is_unknown(const Header& h, const Encoding& e) const {
+    return e.explicit_vr && h.vr[0] == 'U' && h.vr[1] == 'N';
+  }
+
+  // True when the next four bytes are an item tag: an implicit-VR value of defined length that
+  // starts like this is a sequence, and GDCM parses it as one.
+  bool item_follows(const Encoding& e) {
+    unsigned char bytes[4];
+    const std::uint64_t start = file_.position();
+    if (!file_.read(bytes, 4)) return false;
+    file_.seek(start);
+    return (std::uint32_t{u16(bytes, e)} << 16 | u16(bytes + 2, e)) == kItem;
+  }
+
+  bool wanted(std::uint32_t tag) const {
+    return std::binary_search(wanted_, wanted_ + wanted_count_, tag);
+  }
+
+  // Elements up to `end` (a defined-length item), or to an item delimiter (`undefined_item`), or
+  // to the end of the file (the top level).
+  void elements(const Encoding& e, std::uint64_t end, int depth, bool undefined_item) {
+    const bool top_level = depth == 0;
+    for (;;) {
+      if (end != kNoEnd && file_.position() == end) return;
+      if (top_level && file_.left() == 0) return;
+      if (undefined_item && file_.left() == 0)
+        throw Malformed{"an item has no delimiter before the end of the file", true};
+      const Header h = header(e);
+      if (h.tag == kItemDelimiter) {
+        if (!undefined_item) fail(h, "is an item delimiter outside an item");
+        return;
+      }
+      if ((h.tag >> 16) == 0xFFFE) fail(h, "is an item tag among data elements");
+      if (top_level) scan_.last_tag = h.tag;
+      if (top_level && h.tag == kPixelData) {
+        pixel_data(h, e);
+      } else if (h.length == kUndefinedLength) {
+        if (e.explicit_vr && !is_sequence(h, e) && !is_unknown(h, e))
+          fail(h, "has an undefined length but is not a sequence");
+        // An undefined-length UN is a sequence encoded as implicit VR little endian (CP-246).
+        sequence(is_unknown(h, e) ? Encoding{false, false} : e, kNoEnd, depth + 1);
+      } else {
+        need(h, h.length, end);
+        if (is_sequence(h, e) || (!e.explicit_vr && h.length >= 8 && item_follows(e))) {
+          sequence(e, file_.position() + h.length, depth + 1);
+        } else if (top_level && wanted(h.tag) && h.length <= kMaxKeptValueBytes) {
+          std::string value(h.length, '\0');
+          if (!file_.read(value.data(), value.size())) truncated(h);
+          scan_.values[h.tag] = std::move(value);
+        } else {
+          skip(h, h.length);
+        }
+      }
+      if (end != kNoEnd && file_.position() > end)
+        throw Malformed{"an element runs past the end of its item, at byte " +
+                        std::to_string(file_.position())};
+    }
+  }
+
+  // Items up to `end`, or to a sequence delimiter when `end` is kNoEnd.
+  void sequence(const Encoding& e, std::uint64_t end, int depth) {
+    if (depth > kMaxDepth) throw Malformed{"sequences nested more than 32 deep"};
+    for (;;) {
+      if (end != kNoEnd && file_.position() == end) return;
+      if (end == kNoEnd && file_.left() == 0)
+        throw Malformed{"a sequence has no delimiter before the end of the file", true};
+      const Header h = header(e);
+      if (h.tag == kSequenceDelimiter) {
+        if (end != kNoEnd) fail(h, "is a sequence delimiter in a sequence of defined length");
+        return;
+      }
+      if (h.tag != kItem) fail(h, "is not an item, inside a sequence");
+      if (h.length == kUndefinedLength) {
+        elements(e, kNoEnd, depth + 1, true);
+      } else {
+        need(h, h.length, end);
+        elements(e, file_.position() + h.length, depth + 1, false);
+      }
+    }
+  }
+
+  // Native pixel data is one value; encapsulated (compressed) pixel data is a sequence of
+  // fragments ending in a sequence delimiter (PS3.5 A.4).
+  void pixel_data(const Header& h, const Encoding& e) {
+    if (e.explicit_vr && (h.vr[0] != 'O' || (h.vr[1] != 'B' && h.vr[1] != 'W')))
+      fail(h, std::string("(pixel data) has VR ") + h.vr[0] + h.vr[1] + ", expected OB or OW");
+    scan_.has_pixel_data = true;
+    if (h.length != kUndefinedLength) {
+      need(h, h.length);
+      scan_.pixel_data_bytes = h.length;
+      skip(h, h.length);
+      return;
+    }
+    scan_.pixel_data_encapsulated = true;
+    for (;;) {
+      if (file_.left() == 0)
+        throw Malformed{"the compressed pixel data has no end before the end of the file", true};
+      const Header fragment = header(e);
+      if (fragment.tag == kSequenceDelimiter) return;
+      if (fragment.tag != kItem) fail(fragment, "is not a fragment, inside the pixel data");
+      if (fragment.length == kUndefinedLength) fail(fragment, "is a fragment of undefined length");
+      need(fragment, fragment.length);
+      scan_.pixel_data_bytes += fragment.length;
+      skip(fragment, fragment.length);
+    }
+  }
+
+  FileBytes& file_;
+  const std::uint32_t* wanted_;
+  std::size_t wanted_count_;
+  DicomFileScan& scan_;
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+}  // namespace
+
+std::string dicom_tag_text(std::uint32_t tag) {
+  char text[16];
+  std::snprintf(text, sizeof text, "(%04X,%04X)", static_cast<unsigned>(tag >> 16),
+                static_cast<unsigned>(tag & 0xFFFF));
+  return text;
+}
+
+bool has_dicom_preamble(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) return false;
+  char bytes[132];
+  const bool found = std::fread(bytes, 1, sizeof bytes, file) == sizeof bytes &&
+                     std::memcmp(bytes + 128, "DICM", 4) == 0;
+  std::fclose(file);
+  return found;
+}
+
+bool has_dicom_extension(const std::string& path) {
+  const std::string extension = lower_extension(path);
+  return extension == ".dcm" || extension == ".dicom";
+}
+
+std::optional<DicomFileScan> scan_dicom_file(const std::string& path, const std::uint32_t* wanted,
+                                             std::size_t wanted_count, bool claimed) {
+  FileBytes file(path);
+  DicomFileScan scan;
+  Walker walker(file, wanted, wanted_count, scan);
+  char preamble[132];
+  const bool has_preamble =
+      file.read(preamble, sizeof preamble) && std::memcmp(preamble + 128, "DICM", 4) == 0;
+  if (!has_preamble) file.seek(0);
+  const bool dicom_for_sure = has_preamble || claimed;
+  try {
+    walker.meta_group();
+    Encoding encoding;
+    if (scan.transfer_syntax_uid.empty()) {
+      // No meta group: an old file whose first element tells how it is encoded.
+      const std::optional<Encoding> guessed = walker.guess_bare_encoding();
+      if (!guessed) {
+        if (!dicom_for_sure) return std::nullopt;
+        if (file.size() == 0) throw Malformed{"the file is empty", true};
+        throw Malformed{has_preamble ? "no DICOM data element follows the preamble"
+                                     : "it does not start with a DICOM data element"};
+      }
+      encoding = *guessed;
+      scan.transfer_syntax_uid =
+          encoding.explicit_vr ? kExplicitLittleEndian : kImplicitLittleEndian;
+    } else if (scan.transfer_syntax_uid == kImplicitLittleEndian) {
+      encoding = Encoding{false, false};
+    } else if (scan.transfer_syntax_uid == kExplicitBigEndian) {
+      encoding = Encoding{true, true};
+    } else if (scan.transfer_syntax_uid == kDeflatedLittleEndian) {
+      throw Error(path, std::string("its data set is deflated (transfer syntax ") +
+                            kDeflatedLittleEndian + "), which mvox does not read");
+    } else {
+      // Every other transfer syntax, compressed ones included, encodes the data set as explicit
+      // VR little endian.
+      encoding = Encoding{walker.next_element_has_vr(), false};
+    }
+    scan.big_endian = encoding.big_endian;
+    walker.data_set(encoding);
+  } catch (const Malformed& malformed) {
+    if (!dicom_for_sure) return std::nullopt;
+    throw Error(path, (malformed.truncated ? "truncated DICOM file: " : "malformed DICOM file: ") +
+                          malformed.problem);
+  }
+  return scan;
+}
+
+}  // namespace mvox
