@@ -9,6 +9,7 @@ packages=(
   # Only for --show's window, loaded at run time: it brings Qt, which mvox itself never links.
   libopencv-highgui-dev
   libglm-dev                                                        # vector math (header-only)
+  libgdcm-dev                                                       # DICOM series (GDCM)
   libcli11-dev                                                      # command-line parsing
   googletest libgtest-dev                                           # tests
   time hyperfine                                                    # benchmarks (/usr/bin/time -v)
