@@ -105,6 +105,53 @@ struct Encoding {
 
 bool is_vr_letter(unsigned char c) { return c >= 'A' && c <= 'Z'; }
 
+// The VRs of PS3.5 Table 6.2-1. GDCM asserts on any other in the file meta group, so the walk
+// accepts no other anywhere.
+bool is_known_vr(const char vr[2]) {
+  static const char* const kKnown[] = {"AE", "AS", "AT", "CS", "DA", "DS", "DT", "FD", "FL",
+                                       "IS", "LO", "LT", "OB", "OD", "OF", "OL", "OV", "OW",
+                                       "PN", "SH", "SL", "SQ", "SS", "ST", "SV", "TM", "UC",
+                                       "UI", "UL", "UN", "UR", "US", "UT", "UV"};
+  return std::any_of(std::begin(kKnown), std::end(kKnown),
+                     [&](const char* v) { return vr[0] == v[0] && vr[1] == v[1]; });
+}
+
+// Elements GDCM reads through gdcm::Attribute, which asserts that the VR is the standard's, and
+// (for binary VRs) that the value has the right length. A file that breaks this is refused here.
+struct ExpectedElement {
+  std::uint32_t tag;
+  char vr[3];
+  std::uint32_t length;  // 0: any
+};
+constexpr ExpectedElement kExpectedElements[] = {
+    {dicom_tag(0x0002, 0x0000), "UL", 4}, {dicom_tag(0x0002, 0x0001), "OB", 0},
+    {dicom_tag(0x0002, 0x0002), "UI", 0}, {dicom_tag(0x0002, 0x0003), "UI", 0},
+    {dicom_tag(0x0002, 0x0010), "UI", 0}, {dicom_tag(0x0002, 0x0012), "UI", 0},
+    {dicom_tag(0x0002, 0x0013), "SH", 0}, {dicom_tag(0x0002, 0x0016), "AE", 0},
+    {dicom_tag(0x0008, 0x0008), "CS", 0}, {dicom_tag(0x0008, 0x0010), "SH", 0},
+    {dicom_tag(0x0008, 0x0016), "UI", 0}, {dicom_tag(0x0008, 0x0018), "UI", 0},
+    {dicom_tag(0x0008, 0x0060), "CS", 0}, {dicom_tag(0x0018, 0x0050), "DS", 0},
+    {dicom_tag(0x0018, 0x0088), "DS", 0}, {dicom_tag(0x0020, 0x000D), "UI", 0},
+    {dicom_tag(0x0020, 0x000E), "UI", 0}, {dicom_tag(0x0020, 0x0013), "IS", 0},
+    {dicom_tag(0x0020, 0x0032), "DS", 0}, {dicom_tag(0x0020, 0x0037), "DS", 0},
+    {dicom_tag(0x0028, 0x0002), "US", 2}, {dicom_tag(0x0028, 0x0004), "CS", 0},
+    {dicom_tag(0x0028, 0x0006), "US", 2}, {dicom_tag(0x0028, 0x0008), "IS", 0},
+    {dicom_tag(0x0028, 0x0010), "US", 2}, {dicom_tag(0x0028, 0x0011), "US", 2},
+    {dicom_tag(0x0028, 0x0030), "DS", 0}, {dicom_tag(0x0028, 0x0034), "IS", 0},
+    {dicom_tag(0x0028, 0x0100), "US", 2}, {dicom_tag(0x0028, 0x0101), "US", 2},
+    {dicom_tag(0x0028, 0x0102), "US", 2}, {dicom_tag(0x0028, 0x0103), "US", 2},
+    {dicom_tag(0x0028, 0x1050), "DS", 0}, {dicom_tag(0x0028, 0x1051), "DS", 0},
+    {dicom_tag(0x0028, 0x1052), "DS", 0}, {dicom_tag(0x0028, 0x1053), "DS", 0},
+    {dicom_tag(0x0028, 0x1054), "LO", 0},
+};
+constexpr std::uint32_t kRecognitionCode = dicom_tag(0x0008, 0x0010);
+
+const ExpectedElement* expected_element(std::uint32_t tag) {
+  for (const ExpectedElement& e : kExpectedElements)
+    if (e.tag == tag) return &e;
+  return nullptr;
+}
+
 // VRs whose explicit encoding has two reserved bytes and a 32-bit length (PS3.5 7.1.2).
 bool has_long_length(const char vr[2]) {
   static const char* const kLong[] = {"OB", "OD", "OF", "OL", "OV", "OW", "SQ",
@@ -126,6 +173,7 @@ class Walker {
       const Header h = header(meta);
       if (h.length == kUndefinedLength) fail(h, "has an undefined length in the file meta group");
       need(h, h.length);
+      check_expected(h, meta);
       if ((h.tag == kTransferSyntaxUid || h.tag == kMediaStorageSopClassUid) &&
           h.length <= kMaxKeptValueBytes) {
         std::string uid(h.length, '\0');
@@ -227,6 +275,7 @@ class Walker {
     if (!is_vr_letter(bytes[0]) || !is_vr_letter(bytes[1])) fail(h, "has no valid VR");
     h.vr[0] = static_cast<char>(bytes[0]);
     h.vr[1] = static_cast<char>(bytes[1]);
+    if (!is_known_vr(h.vr)) fail(h, std::string("has an unknown VR ") + h.vr[0] + h.vr[1]);
     if (has_long_length(h.vr)) {
       if (!file_.read(bytes, 4)) truncated(h);
       h.length = u32(bytes, e);
@@ -251,6 +300,32 @@ class Walker {
   }
   bool is_unknown(const Header& h, const Encoding& e) const {
     return e.explicit_vr && h.vr[0] == 'U' && h.vr[1] == 'N';
+  }
+
+  // Delimiters have length 0 (PS3.5 7.5); GDCM would allocate any other length as a value.
+  void nothing_follows(const Header& h) {
+    if (h.length != 0) fail(h, "is a delimiter of length " + std::to_string(h.length) + ", not 0");
+  }
+
+  void check_expected(const Header& h, const Encoding& e) {
+    const ExpectedElement* expected = expected_element(h.tag);
+    if (!expected) return;
+    if (e.explicit_vr && (h.vr[0] != expected->vr[0] || h.vr[1] != expected->vr[1]))
+      fail(h, std::string("has VR ") + h.vr[0] + h.vr[1] + ", expected " + expected->vr);
+    if (expected->length != 0 && h.length != expected->length)
+      fail(h, "is " + std::to_string(h.length) + " bytes long, expected " +
+                  std::to_string(expected->length));
+  }
+
+  // The retired RecognitionCode of ACR-NEMA files: GDCM asserts that it names ACR-NEMA.
+  void check_recognition_code(const Header& h) {
+    std::string value(std::min<std::uint32_t>(h.length, 64), '\0');
+    const std::uint64_t start = file_.position();
+    if (!file_.read(value.data(), value.size())) truncated(h);
+    file_.seek(start);
+    for (const char* known : {"ACR-NEMA", "ACRNEMA", "MIPS 2.0"})
+      if (value.compare(0, std::strlen(known), known) == 0) return;
+    fail(h, "(RecognitionCode) does not name ACR-NEMA");
   }
 
   // True when the next four bytes are an item tag: an implicit-VR value of defined length that
@@ -279,6 +354,7 @@ class Walker {
       const Header h = header(e);
       if (h.tag == kItemDelimiter) {
         if (!undefined_item) fail(h, "is an item delimiter outside an item");
+        nothing_follows(h);
         return;
       }
       if ((h.tag >> 16) == 0xFFFE) fail(h, "is an item tag among data elements");
@@ -292,6 +368,8 @@ class Walker {
         sequence(is_unknown(h, e) ? Encoding{false, false} : e, kNoEnd, depth + 1);
       } else {
         need(h, h.length, end);
+        if (top_level) check_expected(h, e);
+        if (top_level && h.tag == kRecognitionCode) check_recognition_code(h);
         if (is_sequence(h, e) || (!e.explicit_vr && h.length >= 8 && item_follows(e))) {
           sequence(e, file_.position() + h.length, depth + 1);
         } else if (top_level && wanted(h.tag) && h.length <= kMaxKeptValueBytes) {
@@ -318,6 +396,7 @@ class Walker {
       const Header h = header(e);
       if (h.tag == kSequenceDelimiter) {
         if (end != kNoEnd) fail(h, "is a sequence delimiter in a sequence of defined length");
+        nothing_follows(h);
         return;
       }
       if (h.tag != kItem) fail(h, "is not an item, inside a sequence");
@@ -343,16 +422,36 @@ class Walker {
       return;
     }
     scan_.pixel_data_encapsulated = true;
+    bool offset_table_seen = false;  // the first item is the basic offset table (PS3.5 A.4)
     for (;;) {
       if (file_.left() == 0)
         throw Malformed{"the compressed pixel data has no end before the end of the file", true};
       const Header fragment = header(e);
-      if (fragment.tag == kSequenceDelimiter) return;
+      if (fragment.tag == kSequenceDelimiter) {
+        nothing_follows(fragment);
+        return;
+      }
       if (fragment.tag != kItem) fail(fragment, "is not a fragment, inside the pixel data");
       if (fragment.length == kUndefinedLength) fail(fragment, "is a fragment of undefined length");
       need(fragment, fragment.length);
       scan_.pixel_data_bytes += fragment.length;
-      skip(fragment, fragment.length);
+      if (!offset_table_seen) {
+        offset_table_seen = true;
+        skip(fragment, fragment.length);
+        continue;
+      }
+      // Keep both ends of the fragment: the codestream's header and its end marker.
+      const std::uint64_t start = file_.position();
+      DicomFragment kept;
+      kept.length = fragment.length;
+      kept.head.resize(std::min<std::uint64_t>(fragment.length, kDicomFragmentHeadBytes));
+      if (!file_.read(kept.head.data(), kept.head.size())) truncated(fragment);
+      const std::size_t tail = static_cast<std::size_t>(
+          std::min<std::uint64_t>(fragment.length, kDicomFragmentTailBytes));
+      file_.seek(start + fragment.length - tail);
+      kept.tail.resize(tail);
+      if (!file_.read(kept.tail.data(), tail)) truncated(fragment);
+      scan_.fragments.push_back(std::move(kept));
     }
   }
 
@@ -361,6 +460,13 @@ class Walker {
   std::size_t wanted_count_;
   DicomFileScan& scan_;
 };
+
+// PS3.5 9.1: digits and dots, at most 64 characters.
+bool is_uid(const std::string& text) {
+  return text.size() <= 64 && std::all_of(text.begin(), text.end(), [](char c) {
+           return c == '.' || (c >= '0' && c <= '9');
+         });
+}
 
 std::string lower_extension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
@@ -406,6 +512,8 @@ std::optional<DicomFileScan> scan_dicom_file(const std::string& path, const std:
   try {
     walker.meta_group();
     Encoding encoding;
+    if (!scan.transfer_syntax_uid.empty() && !is_uid(scan.transfer_syntax_uid))
+      throw Malformed{"its TransferSyntaxUID (0002,0010) is not a UID"};
     if (scan.transfer_syntax_uid.empty()) {
       // No meta group: an old file whose first element tells how it is encoded.
       const std::optional<Encoding> guessed = walker.guess_bare_encoding();

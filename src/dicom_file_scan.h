@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace mvox {
 
@@ -19,6 +20,16 @@ constexpr std::uint32_t dicom_tag(std::uint16_t group, std::uint16_t element) {
 // "(0028,0010)", for messages.
 std::string dicom_tag_text(std::uint32_t tag);
 
+// One fragment of encapsulated (compressed) pixel data, as far as the checks before decoding
+// need it (dicom_codestream.h): its length, first bytes and last bytes.
+struct DicomFragment {
+  std::uint64_t length = 0;
+  std::string head;  // the first min(length, kDicomFragmentHeadBytes) bytes
+  std::string tail;  // the last min(length, kDicomFragmentTailBytes) bytes
+};
+constexpr std::size_t kDicomFragmentHeadBytes = 2048;  // room for the JPEG tables before SOF
+constexpr std::size_t kDicomFragmentTailBytes = 16;
+
 struct DicomFileScan {
   // (0002,0010); without a file meta group, the encoding the walk found (implicit or explicit
   // VR little endian).
@@ -29,6 +40,8 @@ struct DicomFileScan {
   bool has_pixel_data = false;
   bool pixel_data_encapsulated = false;  // compressed: fragments instead of one value
   std::uint64_t pixel_data_bytes = 0;    // native pixel data: its value length
+  // Encapsulated pixel data: the fragments after the basic offset table (the first item).
+  std::vector<DicomFragment> fragments;
   // Raw value bytes of the top-level elements whose tags were asked for and are present, in the
   // file's byte order (text values keep their padding).
   std::map<std::uint32_t, std::string> values;
@@ -49,7 +62,9 @@ bool has_dicom_extension(const std::string& path);
 // does not walk cleanly. Throws mvox::Error(path, problem) for a DICOM file that is truncated or
 // malformed (problem names the element and byte offset), or whose data set is deflated
 // (1.2.840.10008.1.2.1.99, not supported).
-// Memory: a few kilobytes beyond the kept values; nesting is limited to 32 levels.
+// The transfer syntax UID must be a UID (digits and dots), or the file is malformed.
+// Memory: a few kilobytes beyond the kept values and fragment ends; nesting is limited to 32
+// levels.
 std::optional<DicomFileScan> scan_dicom_file(const std::string& path, const std::uint32_t* wanted,
                                              std::size_t wanted_count, bool claimed);
 

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "dicom_codestream.h"
 #include "dicom_file_scan.h"
 #include "error.h"
 
@@ -244,6 +245,11 @@ std::optional<DicomImageHeader> read_dicom_image_header(const std::string& path,
                           (h.frames > 1 ? "x" + std::to_string(h.frames) : std::string()) +
                           " samples of " + std::to_string(h.bits_allocated) + " bits need " +
                           std::to_string(dicom_frame_bytes(h) * h.frames));
+  }
+
+  if (scan->pixel_data_encapsulated) {
+    const std::string problem = compressed_pixel_data_problem(scan->fragments, h);
+    if (!problem.empty()) throw Error(path, problem);
   }
 
   if (const auto number = values.single(kInstanceNumber, "InstanceNumber")) {

@@ -49,7 +49,8 @@ struct DicomImageHeader {
 // between two elements: a data set that stops before group 0028 without an image); a colour image
 // (only grayscale, MONOCHROME1 or MONOCHROME2 with one sample per pixel, is read); an unsupported
 // pixel layout (BitsAllocated other than 8, 16 or 32, HighBit other than BitsStored - 1);
-// native pixel data shorter than Rows x Columns x frames samples; values that are not numbers
+// native pixel data shorter than Rows x Columns x frames samples; compressed pixel data whose
+// codestreams disagree with the header (compressed_pixel_data_problem); values that are not numbers
 // where numbers belong (positions, spacings, rescale), or a zero rescale slope.
 std::optional<DicomImageHeader> read_dicom_image_header(const std::string& path, bool claimed);
 

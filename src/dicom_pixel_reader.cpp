@@ -9,8 +9,8 @@
 
 #include <cstring>
 #include <exception>
+#include <optional>
 
-#include "dicom_file_scan.h"
 #include "error.h"
 
 namespace mvox {
@@ -44,10 +44,13 @@ void check_image(const gdcm::Image& image, const DicomImageHeader& expected) {
 }  // namespace
 
 std::string transfer_syntax_text(const std::string& uid) {
+  // The scan only lets UIDs through, but a message must never carry a file's raw bytes.
+  std::string safe;
+  for (char c : uid) safe += (c >= 32 && c < 127) ? c : '?';
   gdcm::UIDs known;
   if (known.SetFromUID(uid.c_str()) && known.GetName() && *known.GetName())
-    return std::string(known.GetName()) + " (" + uid + ")";
-  return uid;
+    return std::string(known.GetName()) + " (" + safe + ")";
+  return safe;
 }
 
 DicomPixelReader::DicomPixelReader() {
@@ -59,9 +62,14 @@ DicomPixelReader::DicomPixelReader() {
 
 void DicomPixelReader::read_frame(const DicomImageHeader& expected, std::uint32_t frame,
                                   std::vector<char>& decoded) {
-  // Claimed: the file was DICOM when the series was planned, so anything else now is an error.
-  if (!scan_dicom_file(expected.path, nullptr, 0, true))
-    throw Error(expected.path, "is no longer a DICOM file");
+  // Claimed: the file was DICOM when the series was planned, so anything else now is an error;
+  // and it must still be the image that was planned.
+  const std::optional<DicomImageHeader> now = read_dicom_image_header(expected.path, true);
+  if (!now || now->columns != expected.columns || now->rows != expected.rows ||
+      now->frames != expected.frames || now->bits_allocated != expected.bits_allocated ||
+      now->is_signed != expected.is_signed ||
+      now->transfer_syntax_uid != expected.transfer_syntax_uid)
+    throw Error(expected.path, "changed since the series was scanned");
   const std::uint64_t frame_bytes = dicom_frame_bytes(expected);
   decoded.resize(frame_bytes);
   try {

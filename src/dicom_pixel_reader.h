@@ -18,8 +18,8 @@ class DicomPixelReader {
   // dicom_frame_bytes(expected)): expected.bits_allocated-wide samples, native byte order, rows
   // packed. Single-frame files are read whole; a multi-frame file's frame alone, with GDCM's
   // region reader, so that memory stays at one frame.
-  // The file is first walked again (scan_dicom_file), so that a file that changed since it was
-  // scanned cannot reach GDCM malformed.
+  // The file's header is first read again (read_dicom_image_header, with all its checks), so
+  // that a file that changed since it was scanned cannot reach GDCM malformed or different.
   // Throws mvox::Error(path, problem) when the file cannot be read, GDCM cannot decode its
   // transfer syntax (the problem names it), or the decoded image is not what the header said.
   void read_frame(const DicomImageHeader& expected, std::uint32_t frame,

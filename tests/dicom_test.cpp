@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <random>
 
 #include "command_runner.h"
 #include "dicom_input.h"
@@ -550,6 +551,159 @@ TEST(DicomSeries, AFileTruncatedAfterPlanningIsRefusedWhenItsSliceIsRead) {
   SliceView slice;
   ASSERT_TRUE(source.next_slice(&slice));
   expect_error([&] { source.next_slice(&slice); }, victim, "truncated DICOM file");
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void put_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+// GDCM sizes its output from the DICOM header and trusts the codestream to agree; where they
+// disagree it corrupts the heap or aborts. These files would crash mvox without the checks in
+// dicom_codestream.cpp.
+TEST(DicomSeries, CodestreamsThatDisagreeWithTheHeaderAreRefusedBeforeDecoding) {
+  ScratchDirectory dir;
+  DicomSliceSpec spec;
+  spec.width = 33;
+  spec.height = 24;
+  spec.stored = pattern(33, 24, 0);
+  test::write_dicom(dir / "plain.dcm", spec);
+  struct Case {
+    const char* syntax;
+    std::function<bool(std::string&)> corrupt;  // false when the place to corrupt is missing
+    const char* words;
+  };
+  auto at_marker = [](std::string& bytes, const std::string& marker, std::size_t offset,
+                      char value) {
+    const std::size_t at = bytes.find(marker);
+    if (at == std::string::npos) return false;
+    bytes[at + offset] = value;
+    return true;
+  };
+  const Case cases[] = {
+      // SIZ: Xsiz is the 4 bytes at offset 8 from SOC; 33 becomes 0x0121 = 289.
+      {test::kJpeg2000LosslessUid,
+       [&](std::string& b) { return at_marker(b, std::string("\xFF\x4F\xFF\x51", 4), 10, 1); },
+       "its JPEG 2000 codestream is 289x24, the DICOM header says 33x24"},
+      // The end of codestream marker, FFD9, gone: GDCM's JPEG 2000 codec asserts on that.
+      {test::kJpeg2000LosslessUid,
+       [&](std::string& b) {
+         const std::size_t at = b.rfind(std::string("\xFF\xD9", 2));
+         if (at == std::string::npos) return false;
+         b[at + 1] = 0;
+         return true;
+       },
+       "its JPEG 2000 codestream does not end with FFD9"},
+      // SOF55: height at offset 5 from the marker; 24 becomes 0x0118 = 280.
+      {test::kJpegLsLosslessUid,
+       [&](std::string& b) { return at_marker(b, std::string("\xFF\xF7", 2), 5, 1); },
+       "its JPEG-LS codestream is 33x280, the DICOM header says 33x24"},
+      // SOF3 (lossless): width at offset 7 from the marker; 33 becomes 0x0221 = 545.
+      {test::kJpegLosslessUid,
+       [&](std::string& b) { return at_marker(b, std::string("\xFF\xC3", 2), 7, 2); },
+       "its JPEG codestream is 545x24, the DICOM header says 33x24"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string(c.syntax) + ": " + c.words);
+    ScratchDirectory one;
+    ASSERT_TRUE(test::recode(dir / "plain.dcm", one / "image.dcm", c.syntax));
+    std::string bytes = file_bytes(one / "image.dcm");
+    ASSERT_TRUE(c.corrupt(bytes));
+    put_bytes(one / "image.dcm", bytes);
+    expect_error([&] { open_series(one.path().string()); }, one / "image.dcm", c.words);
+  }
+  // RLE: 16-bit samples need two segments; the header says one.
+  ScratchDirectory rle;
+  ASSERT_TRUE(test::recode(dir / "plain.dcm", rle / "image.dcm", test::kRleLosslessUid));
+  std::string bytes = file_bytes(rle / "image.dcm");
+  const std::size_t header = bytes.find(std::string("\x02\x00\x00\x00\x40\x00\x00\x00", 8));
+  ASSERT_NE(header, std::string::npos);
+  bytes[header] = 1;
+  put_bytes(rle / "image.dcm", bytes);
+  expect_error([&] { open_series(rle.path().string()); }, rle / "image.dcm",
+               "its RLE header has 1 segments, 16-bit samples need 2");
+}
+
+// GDCM asserts when an element it reads has another VR than the standard's, or an unknown one.
+TEST(DicomSeries, ElementsWithWrongOrUnknownVrsAreRefused) {
+  ScratchDirectory dir;
+  DicomSliceSpec spec;
+  spec.stored = pattern(16, 12, 0);
+  test::write_dicom(dir / "plain.dcm", spec);
+  const std::string plain = file_bytes(dir / "plain.dcm");
+  fs::remove(dir / "plain.dcm");
+  const std::string rows("\x28\x00\x10\x00US", 6);  // (0028,0010) US, explicit little endian
+  const std::size_t at = plain.find(rows);
+  ASSERT_NE(at, std::string::npos);
+  std::string wrong = plain, unknown = plain, recognition = plain;
+  wrong[at + 5] = 'L';    // UL: a real VR, not Rows'
+  unknown[at + 5] = 'H';  // UH: no such VR
+  const std::size_t modality = plain.find(std::string("\x08\x00\x60\x00" "CS", 6));
+  ASSERT_NE(modality, std::string::npos);
+  recognition[modality + 2] = 0x10;  // (0008,0060) Modality becomes (0008,0010) RecognitionCode
+  recognition[modality + 4] = 'S';
+  recognition[modality + 5] = 'H';
+  put_bytes(dir / "image.dcm", wrong);
+  expect_error([&] { open_series(dir.path().string()); }, dir / "image.dcm",
+               "element (0028,0010) at byte " + std::to_string(at) + " has VR UL, expected US");
+  put_bytes(dir / "image.dcm", unknown);
+  expect_error([&] { open_series(dir.path().string()); }, dir / "image.dcm", "unknown VR UH");
+  put_bytes(dir / "image.dcm", recognition);
+  expect_error([&] { open_series(dir.path().string()); }, dir / "image.dcm",
+               "(RecognitionCode) does not name ACR-NEMA");
+}
+
+// Random byte changes in files of every encoding: each is read or refused with an mvox::Error
+// naming it; none may crash the process (which would end this test binary). Fixed seed.
+TEST(DicomSeries, CorruptedBytesAreReadOrRefusedNeverACrash) {
+  ScratchDirectory originals;
+  DicomSliceSpec spec;
+  spec.width = 24;
+  spec.height = 20;
+  spec.position = Vec3{0, 0, 0};
+  spec.orientation = std::array<double, 6>{1, 0, 0, 0, 1, 0};
+  spec.pixel_spacing = std::array<double, 2>{1, 1};
+  spec.slope = 1;
+  spec.intercept = -1024;
+  spec.stored = pattern(24, 20, 0);
+  test::write_dicom(originals / "explicit.dcm", spec);
+  spec.transfer_syntax_uid = test::kImplicitLittleEndianUid;
+  test::write_dicom(originals / "implicit.dcm", spec);
+  spec.transfer_syntax_uid = test::kExplicitBigEndianUid;
+  test::write_dicom(originals / "big.dcm", spec);
+  std::vector<std::string> files = {"explicit.dcm", "implicit.dcm", "big.dcm"};
+  for (const char* syntax : {test::kRleLosslessUid, test::kJpegLosslessUid,
+                             test::kJpegLsLosslessUid, test::kJpeg2000LosslessUid}) {
+    files.push_back(std::string(syntax) + ".dcm");
+    ASSERT_TRUE(test::recode(originals / "explicit.dcm", originals / files.back(), syntax));
+  }
+  std::mt19937 random(20240611);
+  ScratchDirectory dir;
+  const std::string victim = dir / "case.dcm";
+  int read = 0, refused = 0;
+  for (int trial = 0; trial < 1400; ++trial) {
+    std::string bytes = file_bytes(originals / files[trial % files.size()]);
+    const int changes = 1 + static_cast<int>(random() % 4);
+    for (int c = 0; c < changes; ++c) bytes[random() % bytes.size()] = static_cast<char>(random());
+    put_bytes(victim, bytes);
+    try {
+      DicomSeriesSource source({victim}, DicomOptions{});
+      read_values(source);
+      ++read;
+    } catch (const Error& e) {
+      ++refused;
+      EXPECT_TRUE(e.subject() == victim) << e.what();
+      const std::string what = e.what();
+      EXPECT_TRUE(std::all_of(what.begin(), what.end(), [](char c) { return c >= 32 && c < 127; }))
+          << what;
+    }
+  }
+  EXPECT_GT(read, 200);  // most changes hit pixel values, which are read as they are
+  EXPECT_GT(refused, 200);
 }
 
 // ---------------------------------------------------------------------------------------------
