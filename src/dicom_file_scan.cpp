@@ -359,8 +359,9 @@ class Walker {
       }
       if ((h.tag >> 16) == 0xFFFE) fail(h, "is an item tag among data elements");
       if (top_level) scan_.last_tag = h.tag;
-      if (top_level && h.tag == kPixelData) {
-        pixel_data(h, e);
+      if (h.tag == kPixelData) {
+        // Nested pixel data (an icon in an Icon Image Sequence) is walked alike, not recorded.
+        pixel_data(h, e, top_level ? &scan_ : nullptr);
       } else if (h.length == kUndefinedLength) {
         if (e.explicit_vr && !is_sequence(h, e) && !is_unknown(h, e))
           fail(h, "has an undefined length but is not a sequence");
@@ -411,17 +412,20 @@ class Walker {
 
   // Native pixel data is one value; encapsulated (compressed) pixel data is a sequence of
   // fragments ending in a sequence delimiter (PS3.5 A.4).
-  void pixel_data(const Header& h, const Encoding& e) {
+  // `record`: where the image's pixel data are described (nullptr for nested ones).
+  void pixel_data(const Header& h, const Encoding& e, DicomFileScan* record) {
     if (e.explicit_vr && (h.vr[0] != 'O' || (h.vr[1] != 'B' && h.vr[1] != 'W')))
       fail(h, std::string("(pixel data) has VR ") + h.vr[0] + h.vr[1] + ", expected OB or OW");
-    scan_.has_pixel_data = true;
+    DicomFileScan ignored;
+    DicomFileScan& scan = record ? *record : ignored;
+    scan.has_pixel_data = true;
     if (h.length != kUndefinedLength) {
       need(h, h.length);
-      scan_.pixel_data_bytes = h.length;
+      scan.pixel_data_bytes = h.length;
       skip(h, h.length);
       return;
     }
-    scan_.pixel_data_encapsulated = true;
+    scan.pixel_data_encapsulated = true;
     bool offset_table_seen = false;  // the first item is the basic offset table (PS3.5 A.4)
     for (;;) {
       if (file_.left() == 0)
@@ -434,8 +438,8 @@ class Walker {
       if (fragment.tag != kItem) fail(fragment, "is not a fragment, inside the pixel data");
       if (fragment.length == kUndefinedLength) fail(fragment, "is a fragment of undefined length");
       need(fragment, fragment.length);
-      scan_.pixel_data_bytes += fragment.length;
-      if (!offset_table_seen) {
+      scan.pixel_data_bytes += fragment.length;
+      if (!record || !offset_table_seen) {
         offset_table_seen = true;
         skip(fragment, fragment.length);
         continue;
@@ -451,7 +455,7 @@ class Walker {
       file_.seek(start + fragment.length - tail);
       kept.tail.resize(tail);
       if (!file_.read(kept.tail.data(), tail)) truncated(fragment);
-      scan_.fragments.push_back(std::move(kept));
+      scan.fragments.push_back(std::move(kept));
     }
   }
 
