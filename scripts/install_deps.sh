@@ -9,8 +9,9 @@ packages=(
   # Only for --show's window, loaded at run time: it brings Qt, which mvox itself never links.
   libopencv-highgui-dev
   libglm-dev                                                        # vector math (header-only)
-  zlib1g-dev                                   # gzip NRRD and compressed MetaImage volumes
-  libtiff-dev                                  # multi-page TIFF stacks, read page by page
+  zlib1g-dev                                                        # gzip NRRD and compressed MetaImage volumes
+  libtiff-dev                                                       # multi-page TIFF stacks, read page by page
+  libgdcm-dev                                                       # DICOM series (GDCM)
   libcli11-dev                                                      # command-line parsing
   googletest libgtest-dev                                           # tests
   time hyperfine                                                    # benchmarks (/usr/bin/time -v)

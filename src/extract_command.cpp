@@ -19,6 +19,7 @@ namespace {
 struct ExtractArguments {
   std::vector<std::string> inputs;
   std::string raw_spec;
+  DicomChoice dicom;
   double threshold = 0;
   std::string output;
   std::string stats_path;
@@ -77,9 +78,15 @@ void run_extract(const ExtractArguments& args) {
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
   // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
   const auto open_start = std::chrono::steady_clock::now();
-  std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw);
+  // Notes about the input (which DICOM series, fallbacks) wait until it has been accepted, so
+  // that a refusal before the run stays one line.
+  std::vector<std::string> notes;
+  DicomChoice dicom = args.dicom;
+  if (!args.quiet) dicom.note = [&notes](const std::string& line) { notes.push_back(line); };
+  std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw, dicom);
   const VolumeInfo& info = source->info();
   check_threshold_range(input_label(args.inputs), info.type, args.threshold);
+  for (const std::string& line : notes) std::fprintf(stderr, "mvox: note: %s\n", line.c_str());
 
   MeshJob job;
   job.source_open_s =
@@ -115,8 +122,9 @@ void add_extract_command(CLI::App& app) {
   command
       ->add_option("INPUT", args->inputs,
                    "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images (TIFF files "
-                   "may hold many pages), one NRRD (.nrrd, .nhdr) or MetaImage (.mhd, .mha) "
-                   "volume, raw slice files, or one raw volume file (with --raw)")
+                   "may hold many pages), a DICOM series (a directory or files; recognised by "
+                   "content), one NRRD (.nrrd, .nhdr) or MetaImage (.mhd, .mha) volume, raw "
+                   "slice files, or one raw volume file (with --raw)")
       ->required();
   command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
       ->required()
@@ -140,6 +148,11 @@ void add_extract_command(CLI::App& app) {
             }
           },
           "WxH[xD]:TYPE"));
+  command->add_flag("--dicom", args->dicom.force,
+                    "Read INPUT as DICOM even without the DICM preamble or a .dcm name");
+  command->add_option("--series", args->dicom.series_uid,
+                      "DICOM: the SeriesInstanceUID to read (default: the series with the most "
+                      "slices)");
   add_engine_options(*command, args->engine);
   add_mesh_options(*command, args->mesh);
   command->add_flag("--normals", args->normals,

@@ -14,7 +14,14 @@
 namespace mvox {
 
 std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& inputs,
-                                               const std::optional<RawFormat>& raw) {
+                                               const std::optional<RawFormat>& raw,
+                                               const DicomChoice& dicom) {
+  if (dicom.force && raw) throw Error("--dicom", "cannot be combined with --raw");
+  if (!raw && (dicom.force || is_dicom_input(inputs))) return open_dicom_input(inputs, dicom);
+  if (!dicom.series_uid.empty())
+    throw Error("--series",
+                "applies to DICOM input only, and INPUT is not DICOM (use --dicom "
+                "for DICOM files without the DICM preamble or a .dcm name)");
   if (!raw) {
     std::vector<std::string> files = list_input_files(inputs, InputKind::image_stack);
     if (std::unique_ptr<SliceSource> volume = open_volume_files(files)) return volume;

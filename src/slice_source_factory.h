@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "dicom_input.h"
 #include "mvox/slice_source.h"
 #include "raw_format.h"
 
@@ -14,11 +15,14 @@ namespace mvox {
 //   matching one file is fine, a directory is not).
 // - raw without depth (WxH:TYPE): RawSlicesSource over list_input_files(inputs, raw_files),
 //   so a directory contributes all its regular, non-hidden files.
+// - no raw, and dicom.force or is_dicom_input(inputs): DicomSeriesSource (open_dicom_input).
 // - no raw: list_input_files(inputs, image_stack), then open_volume_files (volume_files.h:
 //   NRRD, MetaImage, TIFF stacks) or else ImageStackSource.
 // - raw with an input named like a NRRD or MetaImage file: refused (subject "--raw").
-// Throws mvox::Error from the file listing and the readers' constructors.
+// Throws mvox::Error from the file listing and the readers' constructors, and for --dicom with
+// --raw or --series with input that is not DICOM.
 std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& inputs,
-                                               const std::optional<RawFormat>& raw);
+                                               const std::optional<RawFormat>& raw,
+                                               const DicomChoice& dicom = {});
 
 }  // namespace mvox

@@ -1,0 +1,43 @@
+#include "dicom_input.h"
+
+#include "dicom_file_scan.h"
+#include "dicom_series_source.h"
+#include "error.h"
+#include "input_files.h"
+
+namespace mvox {
+namespace {
+
+std::string inputs_label(const std::vector<std::string>& inputs) {
+  if (inputs.size() == 1) return inputs[0];
+  return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) +
+         " inputs)";
+}
+
+}  // namespace
+
+bool is_dicom_input(const std::vector<std::string>& inputs) {
+  std::vector<std::string> files;
+  try {
+    files = list_input_files(inputs, InputKind::raw_files);
+  } catch (const Error&) {
+    return false;
+  }
+  for (const std::string& file : files) {
+    if (has_slice_image_extension(file)) continue;
+    if (has_dicom_extension(file) || has_dicom_preamble(file)) return true;
+  }
+  return false;
+}
+
+std::unique_ptr<SliceSource> open_dicom_input(const std::vector<std::string>& inputs,
+                                              const DicomChoice& choice) {
+  DicomOptions options;
+  options.series_uid = choice.series_uid;
+  options.label = inputs_label(inputs);
+  options.note = choice.note;
+  return std::make_unique<DicomSeriesSource>(list_input_files(inputs, InputKind::raw_files),
+                                             std::move(options));
+}
+
+}  // namespace mvox
