@@ -642,7 +642,10 @@ TEST(DicomSeries, ElementsWithWrongOrUnknownVrsAreRefused) {
   std::string wrong = plain, unknown = plain, recognition = plain;
   wrong[at + 5] = 'L';    // UL: a real VR, not Rows'
   unknown[at + 5] = 'H';  // UH: no such VR
-  const std::size_t modality = plain.find(std::string("\x08\x00\x60\x00" "CS", 6));
+  const std::size_t modality =
+      plain.find(std::string("\x08\x00\x60\x00"
+                             "CS",
+                             6));
   ASSERT_NE(modality, std::string::npos);
   recognition[modality + 2] = 0x10;  // (0008,0060) Modality becomes (0008,0010) RecognitionCode
   recognition[modality + 4] = 'S';
@@ -800,12 +803,18 @@ bool position_less(const Vertex& a, const Vertex& b) {
   return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
 }
 
-TEST(DicomCli, SpherePhantomSeriesGivesAClosedSphereWhereTheHeaderPutsIt) {
+// Writes a sphere phantom as a DICOM series with the given row and column cosines, extracts it
+// through the command line, and checks the mesh: closed, outward, and every vertex in patient
+// coordinates, origin + row * column spacing * x + column * row spacing * y + normal * gap * z.
+void expect_sphere_series_in_patient_coordinates(const Vec3& row, const Vec3& column) {
   ScratchDirectory dir;
   fs::create_directory(dir / "scans");
   const sim::Grid grid{22, 19, 17};
   const sim::Sphere sphere(grid, sim::grid_centre(grid), 7.2);
   const Vec3 origin{-10, 20, 30};
+  const Vec3 normal{row[1] * column[2] - row[2] * column[1],
+                    row[2] * column[0] - row[0] * column[2],
+                    row[0] * column[1] - row[1] * column[0]};
   const double gap = 1.5;
   DicomSliceSpec spec;
   spec.width = grid.width;
@@ -813,10 +822,11 @@ TEST(DicomCli, SpherePhantomSeriesGivesAClosedSphereWhereTheHeaderPutsIt) {
   spec.bits_stored = 12;
   spec.intercept = -1024;  // stored 24 is air (-1000 HU), 1100 is bone-like (76 HU)
   spec.pixel_spacing = std::array<double, 2>{0.6, 0.8};  // rows 0.6 apart, columns 0.8
-  spec.orientation = std::array<double, 6>{1, 0, 0, 0, 1, 0};
+  spec.orientation = std::array<double, 6>{row[0], row[1], row[2], column[0], column[1], column[2]};
   test::BinaryVolume inner(grid.width, grid.height, grid.depth);
   for (std::uint32_t z = 0; z < grid.depth; ++z) {
-    spec.position = Vec3{origin[0], origin[1], origin[2] + z * gap};
+    spec.position = Vec3{origin[0] + normal[0] * z * gap, origin[1] + normal[1] * z * gap,
+                         origin[2] + normal[2] * z * gap};
     spec.instance_number = grid.depth - z;  // numbered backwards, named shuffled
     spec.stored.clear();
     for (std::uint32_t y = 0; y < grid.height; ++y)
@@ -836,15 +846,19 @@ TEST(DicomCli, SpherePhantomSeriesGivesAClosedSphereWhereTheHeaderPutsIt) {
   EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
   EXPECT_EQ(topology.euler(), 2);
   EXPECT_EQ(topology.components, 1u);
+  EXPECT_GT(topology.signed_volume, 0);  // outward in patient space too
 
-  // Every vertex where the header says: origin + spacing * (voxel-unit midpoint). With these
-  // axes (identity) that holds whether or not the writer applies VolumeInfo::axes.
   std::vector<Vertex> expected = test::expected_vertices(inner);
   const double spacing[3] = {0.8, 0.6, gap};
+  const Vec3 axes[3] = {row, column, normal};
   for (Vertex& v : expected) {
-    v.x = static_cast<float>(origin[0] + spacing[0] * v.x);
-    v.y = static_cast<float>(origin[1] + spacing[1] * v.y);
-    v.z = static_cast<float>(origin[2] + spacing[2] * v.z);
+    const double voxel[3] = {v.x, v.y, v.z};
+    double world[3] = {origin[0], origin[1], origin[2]};
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) world[k] += axes[a][k] * spacing[a] * voxel[a];
+    v.x = static_cast<float>(world[0]);
+    v.y = static_cast<float>(world[1]);
+    v.z = static_cast<float>(world[2]);
   }
   std::vector<Vertex> actual = mesh.vertices;
   std::sort(expected.begin(), expected.end(), position_less);
@@ -855,6 +869,18 @@ TEST(DicomCli, SpherePhantomSeriesGivesAClosedSphereWhereTheHeaderPutsIt) {
     ASSERT_NEAR(actual[i].y, expected[i].y, 1e-4) << i;
     ASSERT_NEAR(actual[i].z, expected[i].z, 1e-4) << i;
   }
+}
+
+TEST(DicomCli, AxialSphereSeriesGivesAClosedSphereWhereTheHeaderPutsIt) {
+  expect_sphere_series_in_patient_coordinates({1, 0, 0}, {0, 1, 0});
+}
+
+TEST(DicomCli, ObliqueSphereSeriesIsPlacedAlongItsOrientationInPatientCoordinates) {
+  // Rows turned 30 degrees about z, then the plane tipped 20 degrees about the row direction.
+  const double a = 30 * M_PI / 180, b = 20 * M_PI / 180;
+  const Vec3 row{std::cos(a), std::sin(a), 0};
+  const Vec3 column{-std::sin(a) * std::cos(b), std::cos(a) * std::cos(b), std::sin(b)};
+  expect_sphere_series_in_patient_coordinates(row, column);
 }
 
 TEST(DicomCli, SeriesNotesErrorsAndHelp) {
