@@ -8,6 +8,7 @@
 #include "command_runner.h"
 #include "mesh_topology.h"
 #include "phantom_factory.h"
+#include "ply_mesh.h"
 #include "ply_reader.h"
 #include "simulated_scanner.h"
 
@@ -17,21 +18,6 @@ namespace {
 using test::expect_one_line_error;
 using test::run_mvox;
 using test::ScratchDirectory;
-
-test::Mesh to_test_mesh(const PlyMesh& ply) {
-  test::Mesh mesh;
-  for (const auto& p : ply.positions) {
-    Vertex v;
-    v.x = p[0];
-    v.y = p[1];
-    v.z = p[2];
-    mesh.vertices.push_back(v);
-  }
-  for (std::size_t f = 0; f < ply.face_count(); ++f)
-    mesh.polygons.emplace_back(ply.face_indices.begin() + ply.face_offsets[f],
-                               ply.face_indices.begin() + ply.face_offsets[f + 1]);
-  return mesh;
-}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -48,7 +34,7 @@ TEST(Cli, PhantomStackExtractedFromFilesIsClosedWithTheRightTopology) {
   ASSERT_EQ(extracted.exit_code, 0) << extracted.output;
   EXPECT_EQ(extracted.output, "");  // --quiet
 
-  const test::Mesh mesh = to_test_mesh(read_ply(dir / "torus.ply"));
+  const test::Mesh mesh = test::to_mesh(read_ply(dir / "torus.ply"));
   const test::Topology t = test::analyse(mesh);
   EXPECT_TRUE(t.closed_and_consistent()) << test::describe(t);
   EXPECT_EQ(t.euler(), 0) << test::describe(t);
@@ -129,7 +115,7 @@ TEST(Cli, MarchingCubesMethodWritesTrianglesWithInterpolatedVertices) {
   EngineOptions options;
   options.method = SurfaceMethod::cubes;
   const test::Mesh direct = test::extract(scanner, 128, options);
-  EXPECT_EQ(to_test_mesh(from_cubes).polygons, direct.polygons);
+  EXPECT_EQ(test::to_mesh(from_cubes).polygons, direct.polygons);
   const std::string json = read_text(dir / "cubes.json");
   EXPECT_NE(json.find("\"method\": \"cubes\""), std::string::npos) << json;
 
@@ -176,7 +162,7 @@ TEST(Cli, DemoNeedsNoFilesAndWritesDemoPly) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("shepp-logan"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("demo.ply"), std::string::npos) << result.output;
-  const test::Topology t = test::analyse(to_test_mesh(read_ply(dir / "demo.ply")));
+  const test::Topology t = test::analyse(test::to_mesh(read_ply(dir / "demo.ply")));
   EXPECT_TRUE(t.closed_and_consistent()) << test::describe(t);
   EXPECT_GE(t.components, 3u);
 }

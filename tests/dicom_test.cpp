@@ -23,6 +23,7 @@
 #include "error.h"
 #include "mesh_capture.h"
 #include "mesh_topology.h"
+#include "ply_mesh.h"
 #include "ply_reader.h"
 #include "shapes.h"
 #include "slice_source_factory.h"
@@ -784,21 +785,6 @@ TEST(DicomInput, DetectedByPreambleOrNameOtherwiseOnlyWithDicom) {
 // ---------------------------------------------------------------------------------------------
 // The command line
 
-test::Mesh to_test_mesh(const PlyMesh& ply) {
-  test::Mesh mesh;
-  for (const auto& p : ply.positions) {
-    Vertex v;
-    v.x = p[0];
-    v.y = p[1];
-    v.z = p[2];
-    mesh.vertices.push_back(v);
-  }
-  for (std::size_t f = 0; f < ply.face_count(); ++f)
-    mesh.polygons.emplace_back(ply.face_indices.begin() + ply.face_offsets[f],
-                               ply.face_indices.begin() + ply.face_offsets[f + 1]);
-  return mesh;
-}
-
 bool position_less(const Vertex& a, const Vertex& b) {
   return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
 }
@@ -841,7 +827,7 @@ void expect_sphere_series_in_patient_coordinates(const Vec3& row, const Vec3& co
   const auto result = run_mvox("extract scans -t 0 -o sphere.ply -q", dir.path());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_EQ(result.output, "");  // quiet: not even the PixelSpacing or series notes
-  const test::Mesh mesh = to_test_mesh(read_ply(dir / "sphere.ply"));
+  const test::Mesh mesh = test::to_mesh(read_ply(dir / "sphere.ply"));
   const test::Topology topology = test::analyse(mesh);
   EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
   EXPECT_EQ(topology.euler(), 2);
@@ -995,7 +981,7 @@ TEST(DicomDatasets, BbmriExtractedEndToEndIsAClosedSurface) {
   const auto result = run_mvox(
       "extract '" + dataset("dicom_mr_bbmri_6slices") + "' -t 300 -o head.ply -q", dir.path());
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  const test::Topology topology = test::analyse(to_test_mesh(read_ply(dir / "head.ply")));
+  const test::Topology topology = test::analyse(test::to_mesh(read_ply(dir / "head.ply")));
   EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
   EXPECT_GT(topology.faces, 10000u);
   EXPECT_GT(topology.signed_volume, 0);

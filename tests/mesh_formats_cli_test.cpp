@@ -10,6 +10,7 @@
 #include "command_runner.h"
 #include "mesh_topology.h"
 #include "obj_reader.h"
+#include "ply_mesh.h"
 #include "ply_reader.h"
 #include "stl_reader.h"
 
@@ -54,20 +55,7 @@ TEST(MeshFormatsCli, EveryFormatToAFileAndToStandardOutput) {
 
   const PlyMesh ply = read_ply(dir / "mesh.ply");
   ASSERT_GT(ply.face_count(), 500u);
-  const test::Topology topology = test::analyse([&] {
-    test::Mesh mesh;
-    for (const auto& p : ply.positions) {
-      Vertex v;
-      v.x = p[0];
-      v.y = p[1];
-      v.z = p[2];
-      mesh.vertices.push_back(v);
-    }
-    for (std::size_t f = 0; f < ply.face_count(); ++f)
-      mesh.polygons.emplace_back(ply.face_indices.begin() + ply.face_offsets[f],
-                                 ply.face_indices.begin() + ply.face_offsets[f + 1]);
-    return mesh;
-  }());
+  const test::Topology topology = test::analyse(test::to_mesh(ply));
   ASSERT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
 
   // PLY pads its header in a file, not on a pipe: compare what it holds.

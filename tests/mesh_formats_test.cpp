@@ -25,6 +25,7 @@
 #include "obj_writer.h"
 #include "phantom_factory.h"
 #include "pipeline.h"
+#include "ply_mesh.h"
 #include "ply_reader.h"
 #include "ply_writer.h"
 #include "simulated_scanner.h"
@@ -83,21 +84,6 @@ void stream_phantom(const std::string& name, sim::Grid grid, std::vector<Polygon
       run_pipeline(scanner, sim::sample_threshold(sim::default_density_threshold(name), scan),
                    options, pipeline_sinks, name);
   ASSERT_EQ(result.status, Status::ok);
-}
-
-test::Mesh to_test_mesh(const PlyMesh& ply) {
-  test::Mesh mesh;
-  for (const auto& p : ply.positions) {
-    Vertex v;
-    v.x = p[0];
-    v.y = p[1];
-    v.z = p[2];
-    mesh.vertices.push_back(v);
-  }
-  for (std::size_t f = 0; f < ply.face_count(); ++f)
-    mesh.polygons.emplace_back(ply.face_indices.begin() + ply.face_offsets[f],
-                               ply.face_indices.begin() + ply.face_offsets[f + 1]);
-  return mesh;
 }
 
 std::size_t triangles_of(const PlyMesh& ply) {
@@ -164,7 +150,7 @@ TEST(MeshFormats, EveryFormatReadsBackWithThePlysCounts) {
   for (auto& writer : writers) writer->finish();
 
   const PlyMesh ply = read_ply(dir / "mesh.ply");
-  const test::Topology topology = test::analyse(to_test_mesh(ply));
+  const test::Topology topology = test::analyse(test::to_mesh(ply));
   ASSERT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
   ASSERT_EQ(topology.euler(), 0);
   ASSERT_GT(ply.face_count(), 500u);
@@ -180,7 +166,7 @@ TEST(MeshFormats, EveryFormatReadsBackWithThePlysCounts) {
   EXPECT_EQ(triangulated.positions, ply.positions);
   EXPECT_EQ(triangulated.face_count(), triangles_of(ply));
   EXPECT_EQ(triangulated.face_indices.size(), 3 * triangles_of(ply));
-  const test::Topology triangle_topology = test::analyse(to_test_mesh(triangulated));
+  const test::Topology triangle_topology = test::analyse(test::to_mesh(triangulated));
   EXPECT_TRUE(triangle_topology.closed_and_consistent()) << test::describe(triangle_topology);
   EXPECT_EQ(triangle_topology.euler(), 0);
 
@@ -198,7 +184,7 @@ TEST(MeshFormats, EveryFormatReadsBackWithThePlysCounts) {
         << "face " << f;
   const test::ObjFile obj_triangles = test::read_obj(dir / "triangles.obj");
   EXPECT_EQ(obj_triangles.positions, ply.positions);
-  EXPECT_EQ(test::to_mesh(obj_triangles).polygons, to_test_mesh(triangulated).polygons);
+  EXPECT_EQ(test::to_mesh(obj_triangles).polygons, test::to_mesh(triangulated).polygons);
 
   // STL: one record per triangle of the triangulated PLY, same vertices in the same order.
   const std::string stl_bytes = test::read_file_bytes(dir / "mesh.stl");
@@ -447,8 +433,8 @@ TEST(WorldTransform, SpacingOriginAndAxesPlaceVerticesWhereExpected) {
   }
   // A rotation keeps the winding: the same faces, and the volume scaled by the spacing.
   EXPECT_EQ(world.face_indices, voxel.face_indices);
-  const double plain_volume = test::analyse(to_test_mesh(voxel)).signed_volume;
-  EXPECT_NEAR(test::analyse(to_test_mesh(world)).signed_volume, 3.0 * plain_volume,
+  const double plain_volume = test::analyse(test::to_mesh(voxel)).signed_volume;
+  EXPECT_NEAR(test::analyse(test::to_mesh(world)).signed_volume, 3.0 * plain_volume,
               1e-4 * plain_volume);
 }
 
@@ -494,8 +480,8 @@ TEST(WorldTransform, MirroringAxesReverseTheWindingSoTheVolumeStaysPositive) {
     for (std::uint32_t k = 0; k < n; ++k)
       ASSERT_EQ(b.face_indices[begin + k], a.face_indices[begin + (n - k) % n]) << "face " << f;
   }
-  const test::Topology ta = test::analyse(to_test_mesh(a));
-  const test::Topology tb = test::analyse(to_test_mesh(b));
+  const test::Topology ta = test::analyse(test::to_mesh(a));
+  const test::Topology tb = test::analyse(test::to_mesh(b));
   EXPECT_TRUE(tb.closed_and_consistent()) << test::describe(tb);
   EXPECT_GT(tb.signed_volume, 0);
   EXPECT_NEAR(tb.signed_volume, ta.signed_volume, 1e-6 * ta.signed_volume);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "error.h"
+#include "error_capture.h"
 #include "gtest/gtest.h"
 #include "image_stack_source.h"
 #include "input_files.h"
@@ -31,6 +32,8 @@ namespace fs = std::filesystem;
 
 namespace mvox {
 namespace {
+
+using test::error_of;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -129,20 +132,6 @@ std::vector<std::vector<T>> read_all(SliceSource& source) {
   return slices;
 }
 
-// Runs `action`, which must throw mvox::Error; returns what().
-std::string error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  } catch (const std::exception& other) {
-    ADD_FAILURE() << "expected mvox::Error, got: " << other.what();
-    return "";
-  }
-  ADD_FAILURE() << "expected mvox::Error, nothing was thrown";
-  return "";
-}
-
 // Opens the source and reads it to the end, so a refusal at any slice surfaces.
 void read_through(const std::vector<std::string>& inputs, const std::optional<RawFormat>& raw) {
   std::unique_ptr<SliceSource> source = open_slice_source(inputs, raw);
@@ -150,9 +139,6 @@ void read_through(const std::vector<std::string>& inputs, const std::optional<Ra
   while (source->next_slice(&view)) {
   }
 }
-
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "\"" << (text) << "\""
 
 std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
 

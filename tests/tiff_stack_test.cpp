@@ -17,6 +17,7 @@
 
 #include "command_runner.h"
 #include "error.h"
+#include "error_capture.h"
 #include "gtest/gtest.h"
 #include "image_stack_source.h"
 #include "mesh_capture.h"
@@ -32,26 +33,12 @@ namespace fs = std::filesystem;
 namespace mvox {
 namespace {
 
+using test::error_of;
+
 using test::ScratchDirectory;
 
 // Not multiples of the 16-pixel tiles, so that edge tiles are partly outside the image.
 constexpr std::uint32_t kWidth = 37, kHeight = 29, kDepth = 7;
-
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "\"" << (text) << "\""
-
-std::string error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  } catch (const std::exception& other) {
-    ADD_FAILURE() << "expected mvox::Error, got: " << other.what();
-    return "";
-  }
-  ADD_FAILURE() << "expected mvox::Error, nothing was thrown";
-  return "";
-}
 
 struct Layout {
   const char* name;

@@ -16,12 +16,14 @@
 
 #include "command_runner.h"
 #include "error.h"
+#include "error_capture.h"
 #include "gtest/gtest.h"
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
 #include "metaimage_header.h"
 #include "nrrd_header.h"
+#include "ply_mesh.h"
 #include "ply_reader.h"
 #include "raw_format.h"
 #include "raw_volume_source.h"
@@ -33,6 +35,8 @@ namespace fs = std::filesystem;
 namespace mvox {
 namespace {
 
+using test::error_of;
+
 using test::expect_one_line_error;
 using test::run_mvox;
 using test::ScratchDirectory;
@@ -40,23 +44,6 @@ using test::ScratchDirectory;
 // Odd, different sizes on every axis, so that a swapped axis cannot go unnoticed.
 constexpr std::uint32_t kWidth = 13, kHeight = 11, kDepth = 9;
 constexpr const char* kSizes = "13 11 9";
-
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "\"" << (text) << "\""
-
-// Runs `action`, which must throw mvox::Error; returns what().
-std::string error_of(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  } catch (const std::exception& other) {
-    ADD_FAILURE() << "expected mvox::Error, got: " << other.what();
-    return "";
-  }
-  ADD_FAILURE() << "expected mvox::Error, nothing was thrown";
-  return "";
-}
 
 void write_file(const std::string& path, const std::string& text,
                 const std::vector<unsigned char>& bytes = {}) {
@@ -709,21 +696,6 @@ TEST(VolumeFilesCli, BadVolumesFailWithOneLineAndNoOutput) {
 // ---------------------------------------------------------------------------------------------
 // The shared datasets, when ../shared/datasets is present (never in the repository)
 
-test::Mesh to_test_mesh(const PlyMesh& ply) {
-  test::Mesh mesh;
-  for (const auto& p : ply.positions) {
-    Vertex v;
-    v.x = p[0];
-    v.y = p[1];
-    v.z = p[2];
-    mesh.vertices.push_back(v);
-  }
-  for (std::size_t f = 0; f < ply.face_count(); ++f)
-    mesh.polygons.emplace_back(ply.face_indices.begin() + ply.face_offsets[f],
-                               ply.face_indices.begin() + ply.face_offsets[f + 1]);
-  return mesh;
-}
-
 struct SharedVolume {
   const char* name;
   const char* file;  // relative to the datasets folder
@@ -758,7 +730,7 @@ void expect_shared_volume(const SharedVolume& volume) {
                dir.path());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const PlyMesh ply = read_ply(dir / "mesh.ply");
-  const test::Topology t = test::analyse(to_test_mesh(ply));
+  const test::Topology t = test::analyse(test::to_mesh(ply));
   EXPECT_TRUE(t.closed_and_consistent()) << volume.name << ": " << test::describe(t);
   EXPECT_GT(t.signed_volume, 0);
   EXPECT_GT(t.faces, 1000u);

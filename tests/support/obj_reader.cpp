@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "ply_mesh.h"    // mesh_of_positions
 #include "stl_reader.h"  // read_file_bytes
 
 namespace mvox::test {
@@ -104,14 +105,7 @@ ObjFile parse_obj(const std::string& text) {
 ObjFile read_obj(const std::string& path) { return parse_obj(read_file_bytes(path)); }
 
 Mesh to_mesh(const ObjFile& obj) {
-  Mesh mesh;
-  for (const auto& p : obj.positions) {
-    Vertex v;
-    v.x = p[0];
-    v.y = p[1];
-    v.z = p[2];
-    mesh.vertices.push_back(v);
-  }
+  Mesh mesh = mesh_of_positions(obj.positions);
   mesh.polygons = obj.faces;
   return mesh;
 }
