@@ -9,25 +9,5 @@ packages=(
   libclang-rt-14-dev    # libFuzzer and the sanitizer runtimes for Debian's clang 14
 )
 
-if [ "$(id -u)" -eq 0 ]; then
-  sudo_cmd=()
-elif command -v sudo >/dev/null 2>&1; then
-  sudo_cmd=(sudo)
-else
-  echo "install_fuzz_deps.sh: need root or sudo to run apt-get" >&2
-  exit 1
-fi
-
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
-done
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install_fuzz_deps.sh: all ${#packages[@]} packages already installed"
-  exit 0
-fi
-
-echo "install_fuzz_deps.sh: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -q
-"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+source "$(dirname "$0")/apt_install.sh"
+apt_install install_fuzz_deps.sh "${packages[@]}"
