@@ -4,6 +4,8 @@
 #include <cstring>
 #include <limits>
 
+#include "little_endian.h"
+
 namespace mvox {
 namespace {
 
@@ -26,21 +28,6 @@ std::string header_lines(PlyFormat format, const MeshWriterOptions& options,
   text += "element face " + std::to_string(face_count) + "\n";
   text += "property list uchar int vertex_indices\n";
   return text;
-}
-
-// Little-endian by shifts, so the file is the same on any host.
-inline unsigned char* store_le32(unsigned char* out, std::uint32_t value) {
-  out[0] = static_cast<unsigned char>(value);
-  out[1] = static_cast<unsigned char>(value >> 8);
-  out[2] = static_cast<unsigned char>(value >> 16);
-  out[3] = static_cast<unsigned char>(value >> 24);
-  return out + 4;
-}
-
-inline std::uint32_t float_bits(float value) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  return bits;
 }
 
 }  // namespace
@@ -96,8 +83,7 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
     } else {
       unsigned char record[24];
       unsigned char* end = record;
-      for (int field = 0; field < fields; ++field)
-        end = store_le32(end, float_bits(written[field]));
+      for (int field = 0; field < fields; ++field) end = store_le_float(end, written[field]);
       sink.write(record, static_cast<std::size_t>(end - record));
     }
   }

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 
+#include "little_endian.h"
+
 namespace mvox {
 namespace {
 
@@ -13,20 +15,6 @@ const MeshWriterOptions& without_vertex_normals(const MeshWriterOptions& options
   if (options.normals)
     throw Error("--normals", "STL has face normals only; write PLY or OBJ for vertex normals");
   return options;
-}
-
-inline unsigned char* store_le32(unsigned char* out, std::uint32_t value) {
-  out[0] = static_cast<unsigned char>(value);
-  out[1] = static_cast<unsigned char>(value >> 8);
-  out[2] = static_cast<unsigned char>(value >> 16);
-  out[3] = static_cast<unsigned char>(value >> 24);
-  return out + 4;
-}
-
-inline unsigned char* store_float(unsigned char* out, float value) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  return store_le32(out, bits);
 }
 
 // The unit normal of the triangle as written (float vertices, computed in double), by the
@@ -94,9 +82,9 @@ void StlWriter::write_triangles_to(Sink& sink, const Polygon* faces, const FaceP
     unsigned char* end = record;
     float normal[3];
     face_normal(p, normal);
-    for (float value : normal) end = store_float(end, value);
+    for (float value : normal) end = store_le_float(end, value);
     for (int k = 0; k < 3; ++k)
-      for (int axis = 0; axis < 3; ++axis) end = store_float(end, p[k][axis]);
+      for (int axis = 0; axis < 3; ++axis) end = store_le_float(end, p[k][axis]);
     *end++ = 0;  // attribute byte count: 0, as nearly every reader expects
     *end++ = 0;
     sink.write(record, sizeof record);

@@ -29,6 +29,7 @@
 #include "ply_reader.h"
 #include "ply_writer.h"
 #include "simulated_scanner.h"
+#include "stdout_redirect.h"
 #include "stl_reader.h"
 #include "stl_writer.h"
 #include "world_transform.h"
@@ -96,26 +97,6 @@ std::size_t triangles_of(const PlyMesh& ply) {
 void write_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
-
-// Points file descriptor 1 at `path` for the lifetime of the object.
-class StdoutRedirect {
- public:
-  explicit StdoutRedirect(const std::string& path) {
-    std::fflush(stdout);
-    saved_ = ::dup(STDOUT_FILENO);
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, STDOUT_FILENO);
-    ::close(fd);
-  }
-  ~StdoutRedirect() {
-    std::fflush(stdout);
-    ::dup2(saved_, STDOUT_FILENO);
-    ::close(saved_);
-  }
-
- private:
-  int saved_ = -1;
-};
 
 MeshWriterOptions described(const std::string& comment, bool triangulate = false) {
   MeshWriterOptions options;
@@ -217,7 +198,7 @@ TEST(MeshFormats, StandardOutputGetsTheSameBytesAsAFile) {
     SCOPED_TRACE(mesh_format_name(format));
     auto file_writer = open_mesh_writer(dir / "mesh", format, described("mvox test"));
     {
-      StdoutRedirect redirect(dir / "stdout");
+      test::StdoutRedirect redirect(dir / "stdout");
       auto stdout_writer = open_mesh_writer("-", format, described("mvox test"));
       // The same batches to both, as two runs of the engine would send them.
       stream_phantom("sphere", {19, 17, 13}, {file_writer.get(), stdout_writer.get()});

@@ -23,6 +23,7 @@
 #include "output_file.h"
 #include "ply_reader.h"
 #include "ply_writer.h"
+#include "stdout_redirect.h"
 
 namespace mvox {
 namespace {
@@ -195,26 +196,6 @@ void make_mesh(std::size_t vertex_count, std::size_t polygon_count, std::vector<
   }
 }
 
-// Points file descriptor 1 at `path` for the lifetime of the object.
-class StdoutRedirect {
- public:
-  explicit StdoutRedirect(const std::string& path) {
-    std::fflush(stdout);
-    saved_ = ::dup(STDOUT_FILENO);
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, STDOUT_FILENO);
-    ::close(fd);
-  }
-  ~StdoutRedirect() {
-    std::fflush(stdout);
-    ::dup2(saved_, STDOUT_FILENO);
-    ::close(saved_);
-  }
-
- private:
-  int saved_ = -1;
-};
-
 // OUTPUT FILE ---------------------------------------------------------------------------------
 
 TEST(OutputFile, AppearsOnlyAtCommit) {
@@ -315,7 +296,7 @@ TEST(OutputFile, StandardOutputFullIsReported) {
   if (!exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   std::string message;
   {
-    StdoutRedirect redirect("/dev/full");
+    test::StdoutRedirect redirect("/dev/full");
     try {
       OutputFile out("-");
       out.write("x", 1);
@@ -561,7 +542,7 @@ TEST(PlyWriter, StandardOutputGetsAnUnpaddedFile) {
     PlyWriterOptions options;
     options.format = format;
     {
-      StdoutRedirect redirect(captured);
+      test::StdoutRedirect redirect(captured);
       PlyWriter writer("-", options);
       feed(writer, kCubeVertices, kCubeFaces, {5});
       writer.finish();
