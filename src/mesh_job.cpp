@@ -53,6 +53,10 @@ void print_summary(const RunReport& r) {
                    grouped(c.polygons_by_size[size]).c_str());
     std::fprintf(stderr, ")");
   }
+  // STL and --triangulate write triangles: say how many, and in which format.
+  if (!r.output.empty() && r.faces_written != c.polygons)
+    std::fprintf(stderr, ", written as %s triangles (%s)", grouped(r.faces_written).c_str(),
+                 r.format.c_str());
   std::fprintf(stderr,
                "\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
                "(%.0f Mvoxel/s), write %.3f s, render %.3f s\n  peak memory %.1f MiB, of which "
@@ -157,7 +161,11 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     return std::chrono::duration<double>(Clock::now() - start).count();
   };
   const auto write_start = Clock::now();
-  if (writer) writer->complete();
+  if (writer) {
+    writer->complete();
+    report.format = mesh_format_name(job.format);
+    report.faces_written = writer->faces_written();
+  }
   const double write_s = seconds_since(write_start);
   const auto render_start = Clock::now();
   if (picture) {

@@ -45,6 +45,7 @@ std::string run_report_json(const RunReport& r) {
   out << "{\n"
       << "  \"input\": " << json_string(r.input) << ",\n"
       << "  \"output\": " << json_string(r.output) << ",\n"
+      << "  \"format\": " << json_string(r.format) << ",\n"
       << "  \"image\": " << json_string(r.image) << ",\n"
       << "  \"dimensions\": [" << r.volume.width << ", " << r.volume.height << ", " << c.slices
       << "],\n"
@@ -53,6 +54,11 @@ std::string run_report_json(const RunReport& r) {
       << ", " << number(r.volume.spacing[2]) << "],\n"
       << "  \"origin\": [" << number(r.volume.origin[0]) << ", " << number(r.volume.origin[1])
       << ", " << number(r.volume.origin[2]) << "],\n"
+      << "  \"axes\": [";
+  for (int a = 0; a < 3; ++a)
+    out << (a > 0 ? ", " : "") << "[" << number(r.volume.axes[a][0]) << ", "
+        << number(r.volume.axes[a][1]) << ", " << number(r.volume.axes[a][2]) << "]";
+  out << "],\n"
       << "  \"threshold\": " << number(r.threshold) << ",\n"
       << "  \"method\": " << json_string(r.method) << ",\n"
       << "  \"engine\": " << json_string(r.engine) << ",\n"
@@ -64,6 +70,7 @@ std::string run_report_json(const RunReport& r) {
   for (int size = 3; size <= kMaxPolygonVertices; ++size)
     out << (size > 3 ? ", " : "") << "\"" << size << "\": " << c.polygons_by_size[size];
   out << "},\n"
+      << "  \"faces_written\": " << r.faces_written << ",\n"
       << "  \"time_seconds\": {\"read\": " << number(t.read_s)
       << ", \"extract\": " << number(t.extract_s) << ", \"write\": " << number(t.write_s)
       << ", \"render\": " << number(t.render_s) << ", \"total\": " << number(t.total_s) << "},\n"

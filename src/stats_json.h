@@ -10,10 +10,12 @@
 namespace mvox {
 
 struct RunReport {
-  std::string input;      // as the user gave it
-  std::string output;     // mesh file, or empty
-  std::string image;      // picture file, or empty
-  RenderCounters render;  // what the renderer drew (zero without a picture)
+  std::string input;                // as the user gave it
+  std::string output;               // mesh file, or empty
+  std::string format;               // the mesh format's --format name ("ply", "stl", ...), or empty
+  std::uint64_t faces_written = 0;  // polygons, or triangles after triangulation (STL)
+  std::string image;                // picture file, or empty
+  RenderCounters render;            // what the renderer drew (zero without a picture)
   VolumeInfo volume;
   double threshold = 0;
   std::string method;   // "voxels" or "cubes"

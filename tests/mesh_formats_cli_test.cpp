@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "command_runner.h"
+#include "mesh_job.h"
 #include "mesh_topology.h"
 #include "obj_reader.h"
 #include "ply_mesh.h"
@@ -139,6 +140,25 @@ TEST(MeshFormatsCli, DevicesAndPipesWithoutExtensionGetBinaryPly) {
   EXPECT_GT(direct.face_count(), 100u);
   EXPECT_EQ(piped.positions, direct.positions);
   EXPECT_EQ(piped.face_indices, direct.face_indices);
+}
+
+TEST(MeshFormatsCli, SummaryAndStatsSayWhatWasWritten) {
+  ScratchDirectory dir;
+  make_stack(dir);
+  const auto run = run_mvox("extract stack -t 128 -o mesh.stl --stats stl.json", dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::size_t triangles = test::read_stl(dir / "mesh.stl").triangles.size();
+  const std::string json = test::read_file_bytes(dir / "stl.json");
+  EXPECT_NE(json.find("\"format\": \"stl\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"faces_written\": " + std::to_string(triangles) + ","), std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"axes\": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]"), std::string::npos) << json;
+  EXPECT_NE(run.output.find("written as " + mvox::grouped(triangles) + " triangles (stl)"),
+            std::string::npos)
+      << run.output;
+  // Polygons written as they are: no triangle count in the summary.
+  const auto plain = run_mvox("extract stack -t 128 -o mesh.ply", dir.path());
+  EXPECT_EQ(plain.output.find("written as"), std::string::npos) << plain.output;
 }
 
 TEST(MeshFormatsCli, BadFormatChoicesAreUsageErrorsAndWriteNothing) {
