@@ -22,6 +22,29 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 outputs="-o previous.ply --image previous.png --stats previous.json -q"
 
+# make_tiff.py FILE WxH...: an uncompressed 8-bit TIFF with one page per size (Python's struct
+# only, so no TIFF tool is needed).
+cat > "$work/make_tiff.py" << 'EOF_PY'
+import struct, sys
+out = bytearray(b"II*\x00" + struct.pack("<I", 0))
+link = 4
+for size in sys.argv[2:]:
+    w, h = map(int, size.split("x"))
+    data = len(out)
+    out += bytes((x * 7) % 256 for x in range(w * h))
+    out += b"\x00" * (len(out) % 2)
+    struct.pack_into("<I", out, link, len(out))
+    tags = [(256, 4, w), (257, 4, h), (258, 3, 8), (259, 3, 1), (262, 3, 1), (273, 4, data),
+            (277, 3, 1), (278, 4, h), (279, 4, w * h)]
+    out += struct.pack("<H", len(tags))
+    for tag, kind, value in tags:
+        packed = struct.pack("<HH", value, 0) if kind == 3 else struct.pack("<I", value)
+        out += struct.pack("<HHI", tag, kind, 1) + packed
+    link = len(out)
+    out += struct.pack("<I", 0)
+open(sys.argv[1], "wb").write(out)
+EOF_PY
+
 # The directory every case starts from: an 8-slice 12x10 stack, and the previous outputs.
 template=$work/template
 mkdir -p "$template"
@@ -162,6 +185,46 @@ tour "full disk: report" "" "mvox extract stack -t 128 -o previous.ply --stats /
 tour "file-size limit (ulimit -f 4)" "mvox phantom sphere -o big --size 40x40x30 -q" \
   "(ulimit -f 4; mvox extract big -t 128 -o previous.ply -q)"
 tour "outputs that collide" "" "mvox extract stack -t 128 -o previous.ply --stats previous.ply"
+# Volume files and DICOM.
+tour "NRRD: data shorter than its sizes" \
+  "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 9\nencoding: raw\n\n'; head -c 960 /dev/zero; } > cut.nrrd" \
+  "mvox extract cut.nrrd -t 1 $outputs"
+tour "NRRD: a sample type mvox does not read" \
+  "printf 'NRRD0004\ntype: double\ndimension: 3\nsizes: 2 2 2\nendian: little\nencoding: raw\n\n' > double.nrrd; head -c 64 /dev/zero >> double.nrrd" \
+  "mvox extract double.nrrd -t 1 $outputs"
+tour "NRRD: gzip data that are not gzip" \
+  "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: gzip\n\n'; head -c 500 /dev/urandom; } > bad.nrrd" \
+  "mvox extract bad.nrrd -t 1 $outputs"
+tour "MetaImage: data file missing" \
+  "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = nowhere.raw\n' > head.mhd" \
+  "mvox extract head.mhd -t 1 $outputs"
+tour "MetaImage: --raw given as well" \
+  "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n' > head.mha" \
+  "mvox extract head.mha --raw 12x10x8:u8 -t 1 $outputs"
+tour "TIFF stack: a page of another size" "python3 $work/make_tiff.py pages.tif 12x10 12x10 14x10" \
+  "mvox extract pages.tif -t 10 $outputs"
+dicom=$repo/../shared/datasets/dicom_mr_bbmri_6slices
+if [ -d "$dicom" ]; then
+  tour "DICOM: a slice file cut short" \
+    "mkdir scans; cp $dicom/*.dcm scans/; chmod u+w scans/*; truncate -s 100000 scans/bbmri-53323419.dcm" \
+    "mvox extract scans -t 300 $outputs"
+  tour "DICOM: two files at one position" \
+    "mkdir scans; cp $dicom/*.dcm scans/; cp $dicom/bbmri-53323419.dcm scans/copy.dcm" \
+    "mvox extract scans -t 300 $outputs"
+  tour "DICOM: a slice missing from the series" \
+    "mkdir scans; cp $dicom/*.dcm scans/; rm scans/bbmri-53323419.dcm" \
+    "mvox extract scans -t 300 $outputs"
+  tour "DICOM: --series that is not there" \
+    "mkdir scans; cp $dicom/*.dcm scans/" \
+    "mvox extract scans -t 300 --series 1.2.3 $outputs"
+else
+  echo "| DICOM cases | skipped: $dicom is absent | | | |"
+fi
+# Mesh formats.
+tour "unknown mesh extension" "" "mvox extract stack -t 128 -o mesh.vrml -q"
+tour "unknown --format" "" "mvox extract stack -t 128 -o mesh.ply --format vrml -q"
+tour "--ascii with STL" "" "mvox extract stack -t 128 -o mesh.stl --ascii -q"
+tour "full disk: STL" "" "mvox extract stack -t 128 -o /dev/full --format stl -q"
 interrupt INT
 interrupt TERM
 interrupt HUP
