@@ -6,8 +6,6 @@
 // Input: one flag byte (bit 0: the caller claims the file is DICOM, as a .dcm name does), then
 // the file's bytes. Properties: a refusal is one printable line naming the file; an accepted
 // header describes a grayscale image of positive size whose native pixel data the file holds.
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -17,29 +15,12 @@
 #include "dicom_header.h"
 #include "error.h"
 #include "fuzz_check.h"
-
-namespace {
-
-// The file the walk opens: an in-memory file named by its /proc/self/fd path.
-const std::string& file_with(const std::uint8_t* bytes, std::size_t size) {
-  static const int fd = ::memfd_create("mvox_dicom_fuzz", 0);
-  static const std::string path = "/proc/self/fd/" + std::to_string(fd);
-  MVOX_FUZZ_CHECK(fd >= 0 && ::ftruncate(fd, 0) == 0, "memfd");
-  std::size_t done = 0;
-  while (done < size) {
-    const ssize_t put = ::pwrite(fd, bytes + done, size - done, static_cast<off_t>(done));
-    MVOX_FUZZ_CHECK(put > 0, "pwrite");
-    done += static_cast<std::size_t>(put);
-  }
-  return path;
-}
-
-}  // namespace
+#include "memory_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   const bool claimed = (data[0] & 1) != 0;
-  const std::string& path = file_with(data + 1, size - 1);
+  const std::string& path = mvox::fuzz::memory_file_with(data + 1, size - 1);
   try {
     const std::optional<mvox::DicomImageHeader> header =
         mvox::read_dicom_image_header(path, claimed);

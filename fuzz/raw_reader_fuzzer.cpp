@@ -7,8 +7,6 @@
 // refused with a one-line error naming it; one of the right size gives back exactly its bytes,
 // in native order; and the engine, at a threshold inside the sample range, emits only polygons
 // of 3 to 7 vertices already sent.
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +18,7 @@
 
 #include "error.h"
 #include "fuzz_check.h"
+#include "memory_file.h"
 #include "pipeline.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
@@ -28,21 +27,6 @@ namespace {
 
 constexpr std::size_t kMaxSliceBytes = std::size_t{1} << 16;
 constexpr std::size_t kMaxVolumeBytes = std::size_t{1} << 20;
-
-// The file the readers open: an in-memory file, named by its /proc/self/fd path, rewritten for
-// every input (no disk traffic, nothing left behind).
-const std::string& file_with(const std::uint8_t* bytes, std::size_t size) {
-  static const int fd = ::memfd_create("mvox_raw_fuzz", 0);
-  static const std::string path = "/proc/self/fd/" + std::to_string(fd);
-  MVOX_FUZZ_CHECK(fd >= 0 && ::ftruncate(fd, 0) == 0, "memfd");
-  std::size_t done = 0;
-  while (done < size) {
-    const ssize_t put = ::pwrite(fd, bytes + done, size - done, static_cast<off_t>(done));
-    MVOX_FUZZ_CHECK(put > 0, "pwrite");
-    done += static_cast<std::size_t>(put);
-  }
-  return path;
-}
 
 // Checks what the engine sends: vertices before the polygons that use them, 3 to 7 of them.
 class CheckingSink final : public mvox::PolygonSink {
@@ -94,7 +78,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   const std::uint8_t* bytes = newline + 1;
   const std::size_t byte_count = size - static_cast<std::size_t>(bytes - data);
-  const std::string& path = file_with(bytes, byte_count);
+  const std::string& path = mvox::fuzz::memory_file_with(bytes, byte_count);
   // One volume file, or the same file as 1 to 3 slices (the count from the file's size).
   const std::size_t files = format->depth > 0 ? 1 : 1 + byte_count % 3;
   const std::vector<std::string> inputs(files, path);
