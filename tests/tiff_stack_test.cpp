@@ -309,7 +309,8 @@ TEST(TiffStack, RefusesBadPagesNamingFileAndPage) {
   write_stack_with_bad_page(dir / "palette.tif", 1, [&](TIFF* tiff) {
     std::vector<std::uint16_t> map(256, 0);
     TIFFSetField(tiff, TIFFTAG_COLORMAP, map.data(), map.data(), map.data());
-    write_page(tiff, small.data(), kWidth, kHeight, 8, SAMPLEFORMAT_UINT, 1, kLayouts[0],
+    const std::vector<std::uint8_t> indices(kWidth * kHeight, 1);
+    write_page(tiff, indices.data(), kWidth, kHeight, 8, SAMPLEFORMAT_UINT, 1, kLayouts[0],
                [](TIFF* t) { TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_PALETTE); });
   });
   EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "palette.tif"}); }),
