@@ -307,11 +307,14 @@ TEST(TiffStack, RefusesBadPagesNamingFileAndPage) {
                   dir / "double.tif: page 1 has 64-bit float samples");
 
   write_stack_with_bad_page(dir / "palette.tif", 1, [&](TIFF* tiff) {
-    std::vector<std::uint16_t> map(256, 0);
-    TIFFSetField(tiff, TIFFTAG_COLORMAP, map.data(), map.data(), map.data());
+    const std::vector<std::uint16_t> map(256, 0);
     const std::vector<std::uint8_t> indices(kWidth * kHeight, 1);
+    // The colour map goes in after BitsPerSample: libtiff copies 2^BitsPerSample entries of it.
     write_page(tiff, indices.data(), kWidth, kHeight, 8, SAMPLEFORMAT_UINT, 1, kLayouts[0],
-               [](TIFF* t) { TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_PALETTE); });
+               [&](TIFF* t) {
+                 TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_PALETTE);
+                 TIFFSetField(t, TIFFTAG_COLORMAP, map.data(), map.data(), map.data());
+               });
   });
   EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "palette.tif"}); }),
                   dir / "palette.tif: page 2 is a palette colour image");
