@@ -1,18 +1,31 @@
 #include "prefetching_source.h"
 
+#include <chrono>
 #include <cstring>
+
+#include "read_cancellation.h"
 
 namespace mvox {
 
 PrefetchingSource::PrefetchingSource(SliceSource& inner)
-    : inner_(inner), info_(inner.info()), reader_([this] { read_ahead(); }) {}
+    : inner_(inner), info_(inner.info()), reader_([this] {
+        set_reads_cancelled_by(&cancel_reads_);
+        read_ahead();
+        std::lock_guard<std::mutex> lock(mutex_);
+        reader_done_ = true;
+        changed_.notify_all();
+      }) {}
 
 PrefetchingSource::~PrefetchingSource() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
-  }
+  std::unique_lock<std::mutex> lock(mutex_);
+  stopping_ = true;
+  cancel_reads_ = true;
   changed_.notify_all();
+  // The reader may be blocked in read() on a pipe whose writer stays silent: wake it until it
+  // has stopped (a wake-up can land just before it enters the call, hence the repeats).
+  while (!changed_.wait_for(lock, std::chrono::milliseconds(20), [&] { return reader_done_; }))
+    wake_blocked_read(reader_);
+  lock.unlock();
   reader_.join();
 }
 

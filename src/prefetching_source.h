@@ -6,6 +6,7 @@
 //
 // The inner source is only ever called from the reading thread. Whatever it throws is rethrown
 // by next_slice() at the slice where it happened, so errors read exactly as without prefetching.
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <exception>
@@ -44,11 +45,13 @@ class PrefetchingSource final : public SliceSource {
   Buffer buffers_[2];
   std::mutex mutex_;
   std::condition_variable changed_;
-  int next_to_read_ = 0;      // the buffer the reader fills next
-  int next_to_hand_out_ = 0;  // the buffer the caller gets next
-  int held_ = -1;             // the buffer the caller's last view points into, or -1
-  bool finished_ = false;     // the inner source has no more slices (or failed)
-  bool stopping_ = false;     // the destructor wants the reader to stop
+  int next_to_read_ = 0;                   // the buffer the reader fills next
+  int next_to_hand_out_ = 0;               // the buffer the caller gets next
+  int held_ = -1;                          // the buffer the caller's last view points into, or -1
+  bool finished_ = false;                  // the inner source has no more slices (or failed)
+  bool stopping_ = false;                  // the destructor wants the reader to stop
+  bool reader_done_ = false;               // the reading thread has returned
+  std::atomic<bool> cancel_reads_{false};  // read_cancellation.h: give up a blocked read
   std::exception_ptr error_;  // what the inner source threw, for the slice after the last good
   std::thread reader_;
 };

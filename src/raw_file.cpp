@@ -7,6 +7,7 @@
 #include <cerrno>
 
 #include "error.h"
+#include "read_cancellation.h"
 
 namespace mvox {
 
@@ -50,6 +51,7 @@ void RawFile::read_at(std::uint64_t offset, void* bytes, std::size_t byte_count)
                                    : ::pread(descriptor_, destination + done, byte_count - done,
                                              static_cast<off_t>(offset + done));
     if (got < 0) {
+      if (errno == EINTR && reads_cancelled()) throw Error(path_, "reading stopped");
       if (errno == EINTR) continue;
       throw Error(path_, "read failed: " + errno_text(errno));
     }
@@ -68,7 +70,7 @@ void RawFile::expect_end(std::uint64_t expected_bytes, const std::string& what) 
   ssize_t got;
   do {
     got = ::read(descriptor_, &extra, 1);
-  } while (got < 0 && errno == EINTR);
+  } while (got < 0 && errno == EINTR && !reads_cancelled());
   if (got < 0) throw Error(path_, "read failed: " + errno_text(errno));
   if (got > 0)
     throw Error(path_, "holds more than the " + std::to_string(expected_bytes) +

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <filesystem>
@@ -432,6 +433,31 @@ INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt, ::testing::Values(SIGINT, SIGTERM,
                          [](const ::testing::TestParamInfo<int>& info) {
                            return std::string(signal_name(info.param));
                          });
+
+// A job that fails mid-volume while the FIFO it reads from stays open and silent: the reading
+// thread is blocked in read(), and mvox must still end at once with its error (read
+// cancellation, src/read_cancellation.h), not wait for a writer that may never close.
+TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
+  ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
+  const std::string before = dir_.listing();
+  const auto previous = previous_outputs();
+  std::vector<std::string> job = interrupted_job();
+  // Vertices at slice 5 and beyond lie past the float range: a writer error mid-volume.
+  for (const char* extra : {"--origin", "0,0,3.3e38", "--spacing", "1,1,2.5e36"})
+    job.push_back(extra);
+  MvoxProcess mvox(job, dir_.path());
+  FifoWriter fifo(dir_ / "volume.raw");
+  for (int z = 0; z < 8; ++z) ASSERT_TRUE(fifo.write(raw_slice(z))) << "slice " << z;
+  // The FIFO stays open (no end of file) until after mvox has finished; finish() fails the test
+  // if that takes 60 s.
+  const MvoxProcess::Ending ending = mvox.finish();
+  fifo.close();
+  EXPECT_EQ(ending.exit_code, 1);
+  EXPECT_NE(ending.errors.find("mvox: error: previous.ply: vertex "), std::string::npos)
+      << ending.errors;
+  EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 1) << ending.errors;
+  expect_unchanged(before, previous);
+}
 
 // True once a thread of process `pid` waits in open() for a FIFO's writer.
 bool waits_for_fifo_writer(pid_t pid) {
