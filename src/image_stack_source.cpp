@@ -109,20 +109,27 @@ cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes) {
   cv::Mat image;
   // OpenCV reports a decoder's failure on std::cerr ("imdecode_(''): can't read data: ..."),
   // a line of its own; mvox gives the reason in its one error line instead. Only this thread
-  // decodes, and mvox itself never writes to std::cerr (its messages use stdio).
+  // decodes (the prefetching reader), and mvox itself never writes to std::cerr (its messages
+  // use stdio).
   std::stringbuf decoder_messages;
-  std::streambuf* const cerr_buffer = std::cerr.rdbuf(&decoder_messages);
-  try {
-    // ANYDEPTH keeps 16-bit samples (the default would scale them to 8 bits); ANYCOLOR keeps
-    // the channel count so colour images are detected instead of silently converted. The
-    // Mat wraps the bytes without copying them.
-    const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8UC1, bytes.data());
-    if (!bytes.empty()) image = cv::imdecode(encoded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  } catch (const cv::Exception& e) {
-    std::cerr.rdbuf(cerr_buffer);
-    throw Error(path, "cannot decode image: " + e.msg);
+  {
+    // Puts std::cerr back on every way out, exceptions other than OpenCV's included.
+    struct CerrRedirect {
+      std::streambuf* saved;
+      ~CerrRedirect() { std::cerr.rdbuf(saved); }
+    } redirect{std::cerr.rdbuf(&decoder_messages)};
+    try {
+      // ANYDEPTH keeps 16-bit samples (the default would scale them to 8 bits); ANYCOLOR keeps
+      // the channel count so colour images are detected instead of silently converted. The
+      // Mat wraps the bytes without copying them.
+      if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw Error(path, "image file is over 2 GiB, more than OpenCV decodes");
+      const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8UC1, bytes.data());
+      if (!bytes.empty()) image = cv::imdecode(encoded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    } catch (const cv::Exception& e) {
+      throw Error(path, "cannot decode image: " + e.msg);
+    }
   }
-  std::cerr.rdbuf(cerr_buffer);
   if (image.empty()) {
     const std::string reason = opencv_reason(decoder_messages.str());
     throw Error(path, reason.empty() ? "cannot read image (unreadable, corrupt, truncated or not "
