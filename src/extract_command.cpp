@@ -63,6 +63,9 @@ std::string input_label(const std::vector<std::string>& inputs) {
 
 void run_extract(const ExtractArguments& args) {
   const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
+  if (args.normals && format == MeshFormat::stl)
+    throw CLI::ValidationError("--normals",
+                               "STL has face normals only; write PLY or OBJ for vertex normals");
   // --raw describes headerless files; a NRRD or MetaImage file describes itself. Asking for
   // both is a usage error (exit 2), found before any file is opened.
   for (const std::string& input : args.inputs) {

@@ -176,8 +176,9 @@ TEST(MeshFormatsCli, BadFormatChoicesAreUsageErrorsAndWriteNothing) {
   expect_one_line_error(run_mvox(extract + "--image a.png --format obj", dir.path()), "--format",
                         2);
   expect_one_line_error(run_mvox("demo --size 8 -o demo.vrml", dir.path()), "demo.vrml", 2);
-  // Not usage errors but impossible jobs, refused before reading, like --normals without -o.
-  expect_one_line_error(run_mvox(extract + "-o mesh.stl --normals", dir.path()), "--normals");
+  // A usage error: STL has no vertex normals.
+  expect_one_line_error(run_mvox(extract + "-o mesh.stl --normals", dir.path()), "--normals", 2);
+  // Not a usage error but an impossible job, refused before reading, like --normals without -o.
   expect_one_line_error(run_mvox(extract + "--image a.png --triangulate", dir.path()),
                         "--triangulate");
   EXPECT_EQ(dir.listing(), "stack ");
