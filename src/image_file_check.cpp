@@ -1,6 +1,8 @@
 #include "image_file_check.h"
 
-#include <array>
+#include <zlib.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -9,38 +11,18 @@ namespace {
 
 constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 
-// CRC-32 as PNG defines it (ISO 3309, polynomial 0xEDB88320 reflected), sliced by eight:
-// eight tables let the loop take eight bytes per step, so checking a slice costs a few
-// percent of decoding it (Intel's slicing-by-8, Kounavis and Berry, 2005).
-using CrcTables = std::array<std::array<std::uint32_t, 256>, 8>;
-
-constexpr CrcTables make_crc_tables() {
-  CrcTables tables{};
-  for (std::uint32_t n = 0; n < 256; ++n) {
-    std::uint32_t c = n;
-    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-    tables[0][n] = c;
+// CRC-32 as PNG defines it (ISO 3309), which is zlib's crc32; zlib's own is table-driven and
+// fast, so checking a slice costs a few percent of decoding it.
+std::uint32_t png_crc(const unsigned char* bytes, std::size_t size) {
+  std::uint32_t crc = static_cast<std::uint32_t>(::crc32(0L, Z_NULL, 0));
+  // zlib takes a uInt length: feed very large chunks in pieces.
+  while (size > 0) {
+    const uInt piece = static_cast<uInt>(std::min<std::size_t>(size, 1u << 30));
+    crc = static_cast<std::uint32_t>(::crc32(crc, bytes, piece));
+    bytes += piece;
+    size -= piece;
   }
-  for (std::uint32_t n = 0; n < 256; ++n)
-    for (int t = 1; t < 8; ++t)
-      tables[t][n] = (tables[t - 1][n] >> 8) ^ tables[0][tables[t - 1][n] & 0xff];
-  return tables;
-}
-
-constexpr CrcTables kCrcTables = make_crc_tables();
-
-std::uint32_t crc32(const unsigned char* bytes, std::size_t size) {
-  std::uint32_t c = 0xffffffffu;
-  const auto& t = kCrcTables;
-  for (; size >= 8; size -= 8, bytes += 8) {
-    // Byte by byte into two words: no unaligned loads, the same on any byte order.
-    const std::uint32_t low = c ^ (std::uint32_t{bytes[0]} | std::uint32_t{bytes[1]} << 8 |
-                                   std::uint32_t{bytes[2]} << 16 | std::uint32_t{bytes[3]} << 24);
-    c = t[7][low & 0xff] ^ t[6][(low >> 8) & 0xff] ^ t[5][(low >> 16) & 0xff] ^ t[4][low >> 24] ^
-        t[3][bytes[4]] ^ t[2][bytes[5]] ^ t[1][bytes[6]] ^ t[0][bytes[7]];
-  }
-  for (; size > 0; --size, ++bytes) c = t[0][(c ^ *bytes) & 0xff] ^ (c >> 8);
-  return c ^ 0xffffffffu;
+  return crc;
 }
 
 std::uint32_t load_big_endian(const unsigned char* bytes) {
@@ -83,7 +65,7 @@ std::string png_problem(const unsigned char* bytes, std::size_t size) {
     }
     // The CRC covers the type and the data.
     const std::uint32_t stored = load_big_endian(type + 4 + length);
-    if (crc32(type, 4 + std::size_t{length}) != stored)
+    if (png_crc(type, 4 + std::size_t{length}) != stored)
       return "corrupt PNG: the " + name + " chunk at byte " + std::to_string(at) +
              " fails its CRC check";
     if (name == "IEND") return "";
