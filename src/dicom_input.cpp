@@ -6,16 +6,6 @@
 #include "input_files.h"
 
 namespace mvox {
-namespace {
-
-std::string inputs_label(const std::vector<std::string>& inputs) {
-  if (inputs.size() == 1) return inputs[0];
-  return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) +
-         " inputs)";
-}
-
-}  // namespace
-
 bool is_dicom_input(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
   try {

@@ -7,6 +7,7 @@
 #include "cli_options.h"
 #include "commands.h"
 #include "error.h"
+#include "input_files.h"
 #include "mesh_job.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
@@ -55,12 +56,6 @@ void check_threshold_range(const std::string& input, SampleType type, double thr
   throw Error(input, problem);
 }
 
-std::string input_label(const std::vector<std::string>& inputs) {
-  if (inputs.size() == 1) return inputs[0];
-  return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) +
-         " files)";
-}
-
 void run_extract(const ExtractArguments& args) {
   const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
   if (args.normals && format == MeshFormat::stl)
@@ -76,7 +71,7 @@ void run_extract(const ExtractArguments& args) {
     }
   }
   // An interrupt while the input is opened (a FIFO waiting for its writer) names it.
-  set_interrupt_subject(input_label(args.inputs));
+  set_interrupt_subject(inputs_label(args.inputs));
   std::optional<RawFormat> raw;
   if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
   // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
@@ -88,13 +83,13 @@ void run_extract(const ExtractArguments& args) {
   if (!args.quiet) dicom.note = [&notes](const std::string& line) { notes.push_back(line); };
   std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw, dicom);
   const VolumeInfo& info = source->info();
-  check_threshold_range(input_label(args.inputs), info.type, args.threshold);
+  check_threshold_range(inputs_label(args.inputs), info.type, args.threshold);
   for (const std::string& line : notes) std::fprintf(stderr, "mvox: note: %s\n", line.c_str());
 
   MeshJob job;
   job.source_open_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - open_start).count();
-  job.input_label = input_label(args.inputs);
+  job.input_label = inputs_label(args.inputs);
   job.threshold = args.threshold;
   job.engine = args.engine.options();
   job.output = args.output;

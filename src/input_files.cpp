@@ -141,4 +141,10 @@ std::vector<std::string> list_input_files(const std::vector<std::string>& inputs
   return files;
 }
 
+std::string inputs_label(const std::vector<std::string>& inputs) {
+  if (inputs.size() == 1) return inputs[0];
+  return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) +
+         " inputs)";
+}
+
 }  // namespace mvox

@@ -30,4 +30,7 @@ bool has_slice_image_extension(const std::string& path);
 // directory is empty or holds no slice images, or `inputs` is empty (subject "INPUT").
 std::vector<std::string> list_input_files(const std::vector<std::string>& inputs, InputKind kind);
 
+// The INPUT arguments as one name for messages: the input itself, or "first ... last (N inputs)".
+std::string inputs_label(const std::vector<std::string>& inputs);
+
 }  // namespace mvox
