@@ -29,6 +29,10 @@ class SliceSource {
   // The view stays valid until the next call. Host readers throw on read errors; the core
   // never calls this (only sim/ and src/ drive sources), so that is safe.
   virtual bool next_slice(SliceView* slice) = 0;
+  // The most memory, in bytes, the source holds at once while it streams (its slice buffer and
+  // any decoder buffers), known once it is open and before its first slice: the reader's line of
+  // a run's memory plan. Sources that cannot tell return 0. Must not allocate or read.
+  virtual std::uint64_t working_bytes() const { return 0; }
 };
 
 }  // namespace mvox
