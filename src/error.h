@@ -19,6 +19,13 @@ class Error : public std::runtime_error {
   std::string problem_;
 };
 
+// A problem with how mvox was asked to run rather than with a file's contents, found before
+// any work: main() exits with 2 for it, as for a malformed option, instead of 1.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
 // "strerror(errno)" as a string, for problems reported by the C library.
 std::string errno_text(int error_number);
 

@@ -81,7 +81,8 @@ void run_extract(const ExtractArguments& args) {
   std::vector<std::string> notes;
   DicomChoice dicom = args.dicom;
   if (!args.quiet) dicom.note = [&notes](const std::string& line) { notes.push_back(line); };
-  std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw, dicom);
+  OpenedInput input = open_input(args.inputs, raw, dicom);
+  std::unique_ptr<SliceSource>& source = input.source;
   const VolumeInfo& info = source->info();
   check_threshold_range(inputs_label(args.inputs), info.type, args.threshold);
   for (const std::string& line : notes) std::fprintf(stderr, "mvox: note: %s\n", line.c_str());
@@ -90,6 +91,7 @@ void run_extract(const ExtractArguments& args) {
   job.source_open_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - open_start).count();
   job.input_label = inputs_label(args.inputs);
+  job.input_files = std::move(input.files);
   job.threshold = args.threshold;
   job.engine = args.engine.options();
   job.output = args.output;

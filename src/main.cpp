@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "error.h"
+#include "standard_descriptors.h"
 #include "termination.h"
 
 namespace {
@@ -23,7 +24,9 @@ int job_failure(const std::exception& e, int exit_code) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // First, before any thread exists: every thread must inherit the blocked interrupt signals.
+  // First, before any file is opened: a closed standard descriptor must not be reused.
+  mvox::secure_standard_descriptors();
+  // Before any thread exists: every thread must inherit the blocked interrupt signals.
   mvox::install_termination_handling();
   if (argc > 1 && argv[1][0] != '-') mvox::set_interrupt_subject(std::string("mvox ") + argv[1]);
 
@@ -51,6 +54,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "mvox: error: %s\nRun 'mvox --help' or 'mvox COMMAND --help' for usage.\n",
+                 e.what());
+    return 2;
+  } catch (const mvox::UsageError& e) {
     std::fprintf(stderr, "mvox: error: %s\nRun 'mvox --help' or 'mvox COMMAND --help' for usage.\n",
                  e.what());
     return 2;

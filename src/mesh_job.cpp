@@ -9,6 +9,7 @@
 #include "error.h"
 #include "normal_window.h"
 #include "output_file.h"
+#include "output_targets.h"
 #include "peak_memory.h"
 #include "pipeline.h"
 #include "prefetching_source.h"
@@ -105,13 +106,16 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     throw Error(job.input_label, "nothing to write: give -o mesh.ply, --image picture.png or both");
   if (job.normals && !want_mesh) throw Error("--normals", "needs a mesh output (-o)");
   if (job.mesh.triangulate && !want_mesh) throw Error("--triangulate", "needs a mesh output (-o)");
-  // Two outputs on one path would overwrite each other when they appear.
-  const std::string* paths[] = {&job.output, &job.picture.image_path, &job.stats_path};
-  const char* names[] = {"the mesh output", "the image", "the --stats report"};
-  for (int i = 0; i < 3; ++i)
-    for (int k = i + 1; k < 3; ++k)
-      if (!paths[i]->empty() && *paths[i] == *paths[k] && *paths[i] != "-")
-        throw Error(*paths[k], std::string("is both ") + names[i] + " and " + names[k]);
+  // No output may land on an input or on another output: checked before any is created.
+  std::vector<OutputTarget> targets;
+  if (want_mesh) targets.push_back({job.output, "-o", "the mesh"});
+  if (!job.picture.image_path.empty())
+    targets.push_back({job.picture.image_path, "--image", "the picture"});
+  if (!job.stats_path.empty()) targets.push_back({job.stats_path, "--stats", "the report"});
+  std::optional<FramesTarget> frames;
+  if (!job.picture.frames_dir.empty())
+    frames = FramesTarget{job.picture.frames_dir, job.picture.every, report.volume.depth};
+  check_output_targets(targets, frames, job.input_files);
 
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
@@ -184,13 +188,13 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     stats_file->write(json.data(), json.size());
     stats_file->seal();
   }
-  {
-    // An interrupt now waits for the renames, so that the outputs appear all or none.
-    InterruptsDeferred publishing;
-    if (writer) writer->publish();
-    if (picture) picture->publish();
-    if (stats_file) stats_file->publish();
-  }
+  // All or none: every target is checked before the first rename, and a rename that still
+  // fails brings the files already replaced back (publish_together).
+  std::vector<OutputFile*> sealed;
+  if (writer) sealed.push_back(&writer->output_file());
+  if (picture && picture->image_file()) sealed.push_back(picture->image_file());
+  if (stats_file) sealed.push_back(&*stats_file);
+  publish_together(sealed);
   if (!job.quiet) print_summary(report);
   return report;
 }

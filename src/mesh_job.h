@@ -2,6 +2,7 @@
 // The job behind `mvox extract` and `mvox demo`: stream a slice source through the engine into a
 // mesh file (PLY, STL or OBJ), with progress, a summary line and an optional --stats report.
 #include <string>
+#include <vector>
 
 #include "mesh_format.h"
 #include "mvox/engine.h"
@@ -24,6 +25,8 @@ struct MeshJob {
   std::string stats_path;    // empty: no report
   bool quiet = false;        // no progress line, no summary
   double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
+  // Every file the source reads: no output may replace one (output_targets.h).
+  std::vector<std::string> input_files;
 };
 
 // Runs the job; throws mvox::Error naming the file or stage at fault. On any failure no output

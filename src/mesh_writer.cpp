@@ -234,6 +234,6 @@ void MeshWriter::complete() {
   finished_ = true;
 }
 
-void MeshWriter::publish() { publish_file(); }
+void MeshWriter::publish() { output_file().publish(); }
 
 }  // namespace mvox

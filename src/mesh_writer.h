@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "error.h"
+#include "output_file.h"
 #include "mvox/polygon_sink.h"
 #include "mvox/vertex_normals.h"
 #include "world_transform.h"
@@ -84,6 +85,8 @@ class MeshWriter : public PolygonSink {
   const Error* error() const { return error_ ? &*error_ : nullptr; }
   // The output's name in messages: the path, or "standard output".
   virtual const std::string& subject() const = 0;
+  // The file being written, for publishing it together with other outputs (publish_together).
+  virtual OutputFile& output_file() = 0;
 
  protected:
   enum class Faces : std::uint8_t { as_polygons, as_triangles };
@@ -101,7 +104,6 @@ class MeshWriter : public PolygonSink {
                            std::size_t face_count) = 0;
   // Writes what only the end can tell (counts), and seals the file (OutputFile::seal).
   virtual void complete_file() = 0;
-  virtual void publish_file() = 0;
 
  private:
   template <class Body>

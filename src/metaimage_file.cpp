@@ -13,7 +13,7 @@ constexpr std::size_t kMaxHeaderBytes = 1 << 20;
 
 }  // namespace
 
-std::unique_ptr<SliceSource> open_metaimage_volume(const std::string& path) {
+std::unique_ptr<StoredVolumeSource> open_metaimage_volume(const std::string& path) {
   RawFile header_file(path);
   const MetaImageHeader header =
       parse_metaimage_header(read_file_start(header_file, kMaxHeaderBytes), path);

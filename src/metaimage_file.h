@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include "mvox/slice_source.h"
+#include "stored_volume_source.h"
 
 namespace mvox {
 
@@ -14,6 +14,6 @@ namespace mvox {
 // last bytes), and returns a StoredVolumeSource over it. Throws mvox::Error naming the header
 // for header problems and a missing data file, and naming the data file when it is too short
 // or corrupt.
-std::unique_ptr<SliceSource> open_metaimage_volume(const std::string& path);
+std::unique_ptr<StoredVolumeSource> open_metaimage_volume(const std::string& path);
 
 }  // namespace mvox

@@ -39,7 +39,7 @@ std::uint64_t skip_lines(RawFile& file, std::uint64_t offset, std::uint64_t line
 
 }  // namespace
 
-std::unique_ptr<SliceSource> open_nrrd_volume(const std::string& path) {
+std::unique_ptr<StoredVolumeSource> open_nrrd_volume(const std::string& path) {
   RawFile header_file(path);
   const std::string text = read_file_start(header_file, kMaxHeaderBytes);
   if (header_file.size_bytes() > text.size() && text.find("\n\n") == std::string::npos &&

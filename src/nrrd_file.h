@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include "mvox/slice_source.h"
+#include "stored_volume_source.h"
 
 namespace mvox {
 
@@ -13,6 +13,6 @@ namespace mvox {
 // header's directory), applies line skip and byte skip, and returns a StoredVolumeSource over
 // it. Throws mvox::Error naming the header for header problems and a missing data file, and
 // naming the data file when it is too short or corrupt.
-std::unique_ptr<SliceSource> open_nrrd_volume(const std::string& path);
+std::unique_ptr<StoredVolumeSource> open_nrrd_volume(const std::string& path);
 
 }  // namespace mvox

@@ -66,6 +66,5 @@ void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
 
 void ObjWriter::complete_file() { out_.seal(); }
 
-void ObjWriter::publish_file() { out_.publish(); }
 
 }  // namespace mvox

@@ -23,13 +23,13 @@ class ObjWriter final : public MeshWriter {
   explicit ObjWriter(const std::string& path, const MeshWriterOptions& options = {});
 
   const std::string& subject() const override { return out_.subject(); }
+  OutputFile& output_file() override { return out_; }
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
   void write_faces(const Polygon* faces, const FacePositions* positions,
                    std::size_t face_count) override;
   void complete_file() override;
-  void publish_file() override;
 
   OutputFile out_;
 };

@@ -1,25 +1,33 @@
 #pragma once
-// How every mvox writer creates a file: all or nothing, never a half-written target.
+// How every mvox writer creates a file: all or nothing, never a half-written target, never a
+// replaced link or device.
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "buffered_writer.h"
 
 namespace mvox {
 
 // A file being written. For a regular target the bytes go to a temporary file in the target's
-// directory (".NAME.XXXXXX"), and commit() moves it onto the target in one rename, so readers
-// see either the previous file or the complete new one. If commit() is never reached (an error,
-// an exception, an early return) the destructor deletes the temporary and the target is left as
-// it was.
+// directory (".NAME.XXXXXX", the name shortened when NAME is too long to take the suffix), and
+// publishing moves it onto the target in one rename, so readers see either the previous file or
+// the complete new one. If it is never published (an error, an exception, an early return) the
+// destructor deletes the temporary and the target is left as it was.
+//
+// A target that is a symbolic link is written through it: the file the link leads to is
+// replaced (created, if the link dangles) and the link stays, as a shell's `>` would do.
 //
 // Targets that are not regular files are written directly, because renaming onto them would
-// replace them: "-" means standard output, and an existing device or pipe (/dev/null, /dev/full,
-// a FIFO) is opened for writing. Such outputs cannot be overwritten later (can_overwrite() is
-// false) and are not atomic.
+// replace them: "-" means standard output; /dev/stdout, /dev/stderr, /dev/fd/N and
+// /proc/self/fd/N mean that descriptor, whatever file the shell put behind it; anything else
+// under /dev or /proc, and any existing device, pipe or socket, is opened for writing, never
+// created or renamed over. Such outputs cannot be overwritten later (can_overwrite() is false)
+// and are not atomic. A standard output that was closed when mvox started is refused
+// (standard_descriptors.h), so that nothing is written into a file that took its number.
 //
-// From creation to publish() or destruction the output is recorded as in progress
+// From creation to publishing or destruction the output is recorded as in progress
 // (termination.h), so that an interrupt deletes the temporary and names the output.
 //
 // Every failure (cannot create, write, sync, close or rename) throws mvox::Error whose subject is
@@ -52,10 +60,16 @@ class OutputFile {
   void commit();
 
   // commit() in two steps, so that several files can appear together: seal() does all the I/O
-  // that can still fail (flush, fsync, close); publish() then only renames. A sealed file that
-  // is never published is deleted like an uncommitted one.
+  // that can still fail (flush, fsync, close); publish() (or publish_together) then only
+  // renames. A sealed file that is never published is deleted like an uncommitted one.
   void seal();
   void publish();
+
+  // Throws mvox::Error naming the target when publishing would fail for a reason that can be
+  // seen beforehand: the target is immutable or append-only (chattr +i, +a), or it sits in a
+  // sticky directory (like /tmp) and belongs to another user, or it has become a directory.
+  // Direct targets always pass.
+  void check_replaceable() const;
 
   std::uint64_t bytes_written() const { return writer_.bytes_written(); }
 
@@ -69,18 +83,31 @@ class OutputFile {
   std::string scratch_directory() const;
 
  private:
+  friend void publish_together(const std::vector<OutputFile*>& files);
   [[noreturn]] void fail_write(int error);
   void close_fd();
+  void open_descriptor(int fd);
+  void open_direct(const std::string& path);
+  void create_temporary();
 
   std::string path_;
   std::string subject_;
-  std::string temp_path_;  // empty for direct targets
+  std::string target_path_;  // path_ with symbolic links followed: what publish() replaces
+  std::string temp_path_;    // empty for direct targets
   BufferedWriter writer_;
   int registration_ = 0;  // the record of this output in progress (termination.h)
-  bool owns_fd_ = false;  // false for standard output
+  bool owns_fd_ = false;  // false for standard output and other descriptors named by path
   bool failed_ = false;
   bool sealed_ = false;
   bool committed_ = false;
 };
+
+// Makes sealed `files` appear together. Every target is checked first (check_replaceable), so a
+// refusal that can be seen beforehand changes nothing; then each temporary replaces its target.
+// If a replacement still fails (the directory changed meanwhile), the ones already made are
+// undone and the previous files come back, so the targets end all new or all as they were
+// (except on file systems that cannot exchange two names, see termination.h). Interrupts wait
+// meanwhile. Direct targets take part trivially. Throws mvox::Error naming the target at fault.
+void publish_together(const std::vector<OutputFile*>& files);
 
 }  // namespace mvox

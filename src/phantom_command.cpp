@@ -1,5 +1,7 @@
 // mvox phantom NAME -o DIR: writes a phantom of sim/ as an image stack, so that everything a user
 // does with scanned slices can be tried, and tested, on data with known answers.
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -74,6 +76,11 @@ void run_phantom(const PhantomArguments& args) {
     std::snprintf(name, sizeof name, "%s_%04u.%s", args.name.c_str(), z, args.format.c_str());
     write_slice_image((staging.path / name).string(), slice);
   }
+  // mkdtemp makes the folder 0700; the finished stack gets the usual 0777 & ~umask, as mkdir
+  // would give it (umask can only be read by setting it).
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::chmod(staging.path.c_str(), 0777 & ~mask);
   // rename() also replaces an empty directory left at the target.
   if (std::rename(staging.path.c_str(), target.c_str()) != 0)
     throw Error(args.directory, "cannot create directory: " + errno_text(errno));

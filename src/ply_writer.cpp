@@ -135,6 +135,5 @@ void PlyWriter::complete_file() {
   out_.seal();
 }
 
-void PlyWriter::publish_file() { out_.publish(); }
 
 }  // namespace mvox

@@ -35,6 +35,7 @@ class PlyWriter final : public MeshWriter {
   explicit PlyWriter(const std::string& path, PlyWriterOptions options = {});
 
   const std::string& subject() const override { return out_.subject(); }
+  OutputFile& output_file() override { return out_; }
 
   // Bytes of the header area for these options (binary and ASCII alike), which is also the
   // offset of the first vertex in a file written to a regular target.
@@ -45,7 +46,6 @@ class PlyWriter final : public MeshWriter {
   void write_faces(const Polygon* faces, const FacePositions* positions,
                    std::size_t face_count) override;
   void complete_file() override;
-  void publish_file() override;
   template <class Sink>
   void write_vertices_to(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count);
 

@@ -9,6 +9,7 @@
 #include "mesh_job.h"
 #include "mesh_render.h"
 #include "output_file.h"
+#include "output_targets.h"
 #include "ply_reader.h"
 #include "slice_image_writer.h"
 
@@ -31,6 +32,8 @@ void run_render(const RenderArguments& args) {
   if (choice.image.empty()) choice.image = args.output;
   const PictureOptions options = choice.options();
   check_image_extension(options.image_path);
+  check_output_targets({{options.image_path, args.output.empty() ? "--image" : "-o", "the picture"}},
+                       std::nullopt, {args.mesh});
   OutputFile file(options.image_path);  // fails now, not after reading a large mesh
 
   const PlyMesh mesh = read_ply(args.mesh);

@@ -1,19 +1,28 @@
 #include "slice_image_writer.h"
 
+#include <sys/stat.h>
+
 #include <opencv2/imgcodecs.hpp>
 
 #include "error.h"
 #include "output_file.h"
+#include "standard_descriptors.h"
 
 namespace mvox {
 
 namespace {
 
+// The image type to write: the extension, or PNG for standard output and the descriptors,
+// devices and pipes that have no extension to go by (as mesh outputs get PLY).
 std::string extension_of(const std::string& path) {
   const std::size_t dot = path.rfind('.');
   const std::size_t slash = path.rfind('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  return path.substr(dot);
+  if (dot != std::string::npos && (slash == std::string::npos || dot > slash))
+    return path.substr(dot);
+  struct stat status {};
+  const bool special = ::stat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode) &&
+                       !S_ISDIR(status.st_mode);
+  return path == "-" || descriptor_named_by(path) || special ? ".png" : "";
 }
 
 }  // namespace

@@ -16,7 +16,8 @@ void write_slice_image(const std::string& path, const SliceView& slice);
 std::vector<unsigned char> encode_slice_image(const std::string& path, const SliceView& slice);
 
 // Throws mvox::Error naming `path` unless its extension names an image format mvox can write
-// (.png, .pgm, .tif, .bmp, .jpg...): checked before a long run rather than after it.
+// (.png, .pgm, .tif, .bmp, .jpg...): checked before a long run rather than after it. Standard
+// output ("-", /dev/stdout), devices and pipes without an extension get PNG.
 void check_image_extension(const std::string& path);
 
 }  // namespace mvox

@@ -16,16 +16,29 @@ namespace mvox {
 std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& inputs,
                                                const std::optional<RawFormat>& raw,
                                                const DicomChoice& dicom) {
+  return open_input(inputs, raw, dicom).source;
+}
+
+OpenedInput open_input(const std::vector<std::string>& inputs, const std::optional<RawFormat>& raw,
+                       const DicomChoice& dicom) {
+  OpenedInput opened;
   if (dicom.force && raw) throw Error("--dicom", "cannot be combined with --raw");
-  if (!raw && (dicom.force || is_dicom_input(inputs))) return open_dicom_input(inputs, dicom);
+  if (!raw && (dicom.force || is_dicom_input(inputs))) {
+    opened.files = list_input_files(inputs, InputKind::raw_files);
+    opened.source = open_dicom_input(inputs, dicom);
+    return opened;
+  }
   if (!dicom.series_uid.empty())
     throw Error("--series",
                 "applies to DICOM input only, and INPUT is not DICOM (use --dicom "
                 "for DICOM files without the DICM preamble or a .dcm name)");
   if (!raw) {
-    std::vector<std::string> files = list_input_files(inputs, InputKind::image_stack);
-    if (std::unique_ptr<SliceSource> volume = open_volume_files(files)) return volume;
-    return std::make_unique<ImageStackSource>(std::move(files));
+    opened.files = list_input_files(inputs, InputKind::image_stack);
+    std::vector<std::string> data_files;
+    opened.source = open_volume_files(opened.files, &data_files);
+    opened.files.insert(opened.files.end(), data_files.begin(), data_files.end());
+    if (!opened.source) opened.source = std::make_unique<ImageStackSource>(opened.files);
+    return opened;
   }
   for (const std::string& input : inputs) {
     if (const HeaderedFormat format = headered_format(input); format != HeaderedFormat::none) {
@@ -34,7 +47,9 @@ std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& i
     }
   }
   if (raw->depth == 0) {
-    return std::make_unique<RawSlicesSource>(list_input_files(inputs, InputKind::raw_files), *raw);
+    opened.files = list_input_files(inputs, InputKind::raw_files);
+    opened.source = std::make_unique<RawSlicesSource>(opened.files, *raw);
+    return opened;
   }
 
   const std::string volume_text = "--raw " + raw_format_text(*raw);
@@ -46,12 +61,13 @@ std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& i
   if (std::filesystem::is_directory(inputs[0], error)) {
     throw Error(inputs[0], "is a directory; " + volume_text + " reads one volume file");
   }
-  const std::vector<std::string> files = list_input_files(inputs, InputKind::raw_files);
-  if (files.size() != 1) {
-    throw Error(inputs[0], "matches " + std::to_string(files.size()) + " files; " + volume_text +
-                               " reads one volume file");
+  opened.files = list_input_files(inputs, InputKind::raw_files);
+  if (opened.files.size() != 1) {
+    throw Error(inputs[0], "matches " + std::to_string(opened.files.size()) + " files; " +
+                               volume_text + " reads one volume file");
   }
-  return std::make_unique<RawVolumeSource>(files[0], *raw);
+  opened.source = std::make_unique<RawVolumeSource>(opened.files[0], *raw);
+  return opened;
 }
 
 }  // namespace mvox

@@ -25,4 +25,16 @@ std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& i
                                                const std::optional<RawFormat>& raw,
                                                const DicomChoice& dicom = {});
 
+// An open input and every file it reads.
+struct OpenedInput {
+  std::unique_ptr<SliceSource> source;
+  // The slice files, headers and data files the source reads (for DICOM, every file INPUT
+  // offered, DICOM or not), so that no output can replace one of them (output_targets.h).
+  std::vector<std::string> files;
+};
+
+// open_slice_source, with the files it reads.
+OpenedInput open_input(const std::vector<std::string>& inputs,
+                       const std::optional<RawFormat>& raw, const DicomChoice& dicom = {});
+
 }  // namespace mvox

@@ -105,6 +105,5 @@ void StlWriter::complete_file() {
   out_.seal();
 }
 
-void StlWriter::publish_file() { out_.publish(); }
 
 }  // namespace mvox

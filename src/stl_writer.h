@@ -33,6 +33,7 @@ class StlWriter final : public MeshWriter {
   explicit StlWriter(const std::string& path, const MeshWriterOptions& options = {});
 
   const std::string& subject() const override { return out_.subject(); }
+  OutputFile& output_file() override { return out_; }
 
   // The 80 header bytes for these options.
   static std::string header(const MeshWriterOptions& options);
@@ -42,7 +43,6 @@ class StlWriter final : public MeshWriter {
   void write_faces(const Polygon* faces, const FacePositions* positions,
                    std::size_t face_count) override;
   void complete_file() override;
-  void publish_file() override;
   template <class Sink>
   void write_triangles_to(Sink& sink, const Polygon* faces, const FacePositions* positions,
                           std::size_t face_count);

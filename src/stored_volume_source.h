@@ -45,6 +45,9 @@ class StoredVolumeSource : public SliceSource {
   const VolumeInfo& info() const override { return volume_.info; }
   bool next_slice(SliceView* slice) override;
 
+  // The file the samples are read from: the header itself for attached data.
+  const std::string& data_path() const { return data_.path; }
+
  private:
   void check_raw_size();
   void check_compressed_size();

@@ -25,6 +25,15 @@ void prepare_frames_dir(const std::string& dir) {
 
 }  // namespace
 
+std::string frame_file_name(std::uint32_t slices_done, std::uint32_t depth) {
+  // Numbered by slices done, zero-padded so that names sort in order.
+  int digits = 4;
+  for (std::uint32_t d = depth; d >= 10000; d /= 10) ++digits;
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%0*u.png", digits, slices_done);
+  return name;
+}
+
 SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double, 3>& spacing,
                                const std::array<double, 3>& origin, const VertexNormals* normals,
                                const PictureOptions& options)
@@ -68,13 +77,9 @@ SurfacePicture::~SurfacePicture() = default;
 
 void SurfacePicture::write_frame(std::uint32_t slices_done) {
   if (options_.frames_dir.empty()) return;
-  // Numbered by slices done, zero-padded so that names sort in order.
-  int digits = 4;
-  for (std::uint32_t d = depth_; d >= 10000; d /= 10) ++digits;
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%0*u.png", digits, slices_done);
-  write_slice_image((std::filesystem::path(options_.frames_dir) / name).string(),
-                    renderer_.picture());
+  write_slice_image(
+      (std::filesystem::path(options_.frames_dir) / frame_file_name(slices_done, depth_)).string(),
+      renderer_.picture());
   last_frame_ = slices_done;
 }
 

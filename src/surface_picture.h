@@ -33,6 +33,10 @@ struct PictureOptions {
   bool wanted() const { return !image_path.empty() || !frames_dir.empty() || show; }
 };
 
+// The name of the frame written after `slices_done` of `depth` slices: "frame_0010.png",
+// zero-padded to at least 4 digits and to as many as `depth` has, so that names sort in order.
+std::string frame_file_name(std::uint32_t slices_done, std::uint32_t depth);
+
 class SurfacePicture {
  public:
   // Sets up the renderer for `volume` placed with `spacing` and `origin` (as the mesh is
@@ -58,6 +62,8 @@ class SurfacePicture {
   void publish();
 
   const ZBufferRenderer& renderer() const { return renderer_; }
+  // The picture's file, once complete() has sealed it (null without --image).
+  OutputFile* image_file() { return image_file_ ? &*image_file_ : nullptr; }
 
  private:
   void write_frame(std::uint32_t slices_done);

@@ -1,9 +1,12 @@
 #include "termination.h"
 
 #include <fcntl.h>
+#include <stdio.h>  // renameat2, RENAME_EXCHANGE (glibc 2.28)
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -126,6 +129,83 @@ int publish_output_temporary(int id, const std::string& target_path) {
     return 0;
   }
   return ENOENT;
+}
+
+namespace {
+
+enum class Step : unsigned char { none, exchanged, created, renamed };
+
+// Takes back one step of publish_output_temporaries; best effort, the caller already failed.
+void reverse_step(Step step, const std::string& temporary, const std::string& target) {
+  switch (step) {
+    case Step::exchanged:
+      ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE);
+      break;
+    case Step::created: ::rename(target.c_str(), temporary.c_str()); break;
+    case Step::renamed:  // the previous file is gone: nothing to bring back
+    case Step::none: break;
+  }
+}
+
+// Puts `temporary` in place of `target`, keeping a previous target under the temporary's name.
+// Returns 0 or an errno; *step says what was done.
+int replace_keeping_previous(const std::string& temporary, const std::string& target,
+                             Step* step) {
+  // An exchange would swap a file with a directory as readily as with a file.
+  struct stat status {};
+  if (::lstat(target.c_str(), &status) == 0 && S_ISDIR(status.st_mode)) return EISDIR;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) ==
+        0) {
+      *step = Step::exchanged;
+      return 0;
+    }
+    if (errno == ENOENT) {  // no previous file: create the target, replacing nothing
+      if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_NOREPLACE) ==
+          0) {
+        *step = Step::created;
+        return 0;
+      }
+      if (errno == EEXIST) continue;  // it appeared meanwhile: exchange with it
+    }
+    if (errno != EINVAL && errno != ENOSYS) return errno;
+    break;  // the file system cannot exchange or refuse: a plain rename
+  }
+  if (::rename(temporary.c_str(), target.c_str()) != 0) return errno;
+  *step = Step::renamed;
+  return 0;
+}
+
+}  // namespace
+
+int publish_output_temporaries(const std::vector<Publication>& items, std::size_t* failed_index) {
+  Registry& r = registry();
+  std::lock_guard<std::recursive_mutex> hold(r.lock);
+  std::vector<std::string> temporaries;
+  for (const Publication& item : items) {
+    const auto record = std::find_if(r.outputs.begin(), r.outputs.end(),
+                                     [&](const OutputRecord& o) { return o.id == item.id; });
+    temporaries.push_back(record == r.outputs.end() ? std::string() : record->temporary);
+  }
+  std::vector<Step> steps(items.size(), Step::none);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const int error = temporaries[i].empty()
+                          ? ENOENT
+                          : replace_keeping_previous(temporaries[i], items[i].target_path,
+                                                     &steps[i]);
+    if (error == 0) continue;
+    for (std::size_t k = i; k-- > 0;) reverse_step(steps[k], temporaries[k], items[k].target_path);
+    *failed_index = i;
+    return error;
+  }
+  // Every target is new: the previous files, kept under the temporaries' names, can go.
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (steps[i] == Step::exchanged) ::unlink(temporaries[i].c_str());
+    r.outputs.erase(std::remove_if(r.outputs.begin(), r.outputs.end(),
+                                   [&](const OutputRecord& o) { return o.id == items[i].id; }),
+                    r.outputs.end());
+  }
+  return 0;
 }
 
 void discard_output(int id) {

@@ -31,7 +31,9 @@
 //
 // The registry works without install_termination_handling() too (tests, library users): it
 // then only records, and signals keep their default actions.
+#include <cstddef>
 #include <string>
+#include <vector>
 
 namespace mvox {
 
@@ -54,6 +56,23 @@ int register_direct_output(const std::string& target);
 // Renames the recorded temporary onto `target_path` and forgets the record, as one step an
 // interrupt cannot split. Returns 0, or the errno of rename() (the record is then kept).
 int publish_output_temporary(int id, const std::string& target_path);
+
+// One output to publish: the record of its temporary and the path it replaces.
+struct Publication {
+  int id = 0;
+  std::string target_path;
+};
+
+// Replaces every target by its record's temporary, all or none, as one step an interrupt cannot
+// split, and forgets the records. An existing target is swapped with its temporary
+// (renameat2 RENAME_EXCHANGE), so that until all have succeeded each previous file is still at
+// hand under the temporary's name; a new target is created without replacing anything
+// (RENAME_NOREPLACE). When a step fails, the steps already made are reversed and the previous
+// files are back in place; on success they are deleted. Returns 0, or the errno of the step
+// that failed, with *failed_index set to its position in `items` (the records are then kept).
+// On a file system that cannot exchange or refuse to replace (EINVAL: some network file
+// systems), a plain rename is used for that target, which cannot be reversed.
+int publish_output_temporaries(const std::vector<Publication>& items, std::size_t* failed_index);
 
 // Deletes the record's temporary, if it has one and it was not published, and forgets it.
 void discard_output(int id);

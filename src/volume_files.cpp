@@ -7,6 +7,7 @@
 #include "header_text.h"
 #include "metaimage_file.h"
 #include "nrrd_file.h"
+#include "stored_volume_source.h"
 #include "tiff_stack_source.h"
 
 namespace mvox {
@@ -27,7 +28,8 @@ const char* headered_format_name(HeaderedFormat format) {
   return "headerless";
 }
 
-std::unique_ptr<SliceSource> open_volume_files(const std::vector<std::string>& files) {
+std::unique_ptr<SliceSource> open_volume_files(const std::vector<std::string>& files,
+                                               std::vector<std::string>* data_files) {
   for (const std::string& file : files) {
     const HeaderedFormat format = headered_format(file);
     if (format == HeaderedFormat::none) continue;
@@ -36,7 +38,10 @@ std::unique_ptr<SliceSource> open_volume_files(const std::vector<std::string>& f
                             " volume, which must be the only input (got " +
                             std::to_string(files.size()) + " files)");
     }
-    return format == HeaderedFormat::nrrd ? open_nrrd_volume(file) : open_metaimage_volume(file);
+    std::unique_ptr<StoredVolumeSource> volume =
+        format == HeaderedFormat::nrrd ? open_nrrd_volume(file) : open_metaimage_volume(file);
+    if (data_files && volume->data_path() != file) data_files->push_back(volume->data_path());
+    return volume;
   }
   const auto tiff_count = std::count_if(files.begin(), files.end(), has_tiff_extension);
   if (tiff_count > 0 && static_cast<std::size_t>(tiff_count) == files.size()) {

@@ -23,7 +23,9 @@ const char* headered_format_name(HeaderedFormat format);  // "NRRD", "MetaImage"
 //   multi-page TIFF, several of them, and single-page TIFF slices are all stacks;
 // - TIFF files mixed with other images stay with ImageStackSource, which reads one page per
 //   file, so a multi-page TIFF among them is refused instead of losing its other pages.
-// Throws mvox::Error naming the file.
-std::unique_ptr<SliceSource> open_volume_files(const std::vector<std::string>& files);
+// A NRRD or MetaImage header that keeps its samples in another file adds that file's path to
+// `*data_files` (when not null). Throws mvox::Error naming the file.
+std::unique_ptr<SliceSource> open_volume_files(const std::vector<std::string>& files,
+                                               std::vector<std::string>* data_files = nullptr);
 
 }  // namespace mvox

@@ -29,6 +29,7 @@
 
 #include "command_runner.h"
 #include "mvox_process.h"
+#include "refusal.h"
 
 namespace fs = std::filesystem;
 
@@ -56,8 +57,6 @@ void write_bytes(const std::string& path, const std::string& bytes) {
   out << bytes;
   ASSERT_TRUE(out.good()) << path;
 }
-
-std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
 
 // Writes into a FIFO that mvox reads, never waiting more than 30 s for mvox: a broken mvox
 // must fail the test, not hang it.
@@ -109,32 +108,11 @@ class BadInput : public ::testing::Test {
   }
 
   // Runs `mvox ARGUMENTS` and checks the whole contract: one line starting
-  // "mvox: error: SUBJECT" that says PROBLEM, the exit code, and nothing changed on disk.
+  // "mvox: error: SUBJECT" that says PROBLEM, the exit code, and nothing changed on disk: no
+  // output or temporary left, the previous outputs and the inputs byte for byte as they were.
   void expect_refused(const std::string& arguments, const std::string& subject,
                       const std::string& problem, int exit_code = 1) {
-    SCOPED_TRACE("mvox " + arguments);
-    const std::string before = dir_.listing();
-    const std::map<std::string, std::string> previous = previous_outputs();
-    const CommandResult result = run_mvox(arguments, dir_.path());
-    test::expect_one_line_error(result, subject, exit_code);
-    const std::string line = first_line(result.output);
-    EXPECT_EQ(line.rfind("mvox: error: " + subject, 0), 0u) << line;
-    EXPECT_NE(line.find(problem, subject.size()), std::string::npos)
-        << "expected \"" << problem << "\" in: " << line;
-    expect_unchanged(before, previous);
-  }
-
-  std::map<std::string, std::string> previous_outputs() const {
-    std::map<std::string, std::string> bytes;
-    for (const char* name : kPreviousOutputs) bytes[name] = read_bytes(dir_ / name);
-    return bytes;
-  }
-
-  void expect_unchanged(const std::string& listing_before,
-                        const std::map<std::string, std::string>& previous) const {
-    EXPECT_EQ(dir_.listing(), listing_before) << "an output or a temporary was left behind";
-    for (const auto& [name, bytes] : previous)
-      EXPECT_EQ(read_bytes(dir_ / name), bytes) << name << " was changed";
+    test::expect_refused(dir_.path(), arguments, subject, problem, exit_code);
   }
 
   ScratchDirectory dir_;
@@ -340,22 +318,21 @@ TEST_F(BadInput, FileSizeLimit) {
   // ignore that signal; the write fails instead, like on a full disk. A mesh larger than the
   // limit of 4 blocks (2 KiB in dash, 4 KiB in bash):
   ASSERT_EQ(run_mvox("phantom sphere -o big --size 40x40x30 -q", dir_.path()).exit_code, 0);
-  const std::string before = dir_.listing();
-  const auto previous = previous_outputs();
+  const auto before = test::tree_snapshot(dir_.path());
   const CommandResult result =
       run_mvox("extract big -t 128 -o previous.ply -q", dir_.path(), "ulimit -f 4;");
   test::expect_one_line_error(result, "previous.ply");
   // The mesh's faces wait in a scratch file beside it, which may hit the limit first.
   EXPECT_EQ(result.output.rfind("mvox: error: previous.ply: write failed", 0), 0u) << result.output;
   EXPECT_NE(result.output.find(": File too large"), std::string::npos) << result.output;
-  expect_unchanged(before, previous);
+  test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 
 TEST_F(BadInput, OutputsThatCollide) {
   expect_refused("extract stack -t 128 -o previous.ply --stats previous.ply", "previous.ply",
-                 "is both the mesh output and the --stats report");
+                 "is both the mesh (-o previous.ply) and the report (--stats previous.ply)", 2);
   expect_refused("extract stack -t 128 -o previous.png --format ply --image previous.png",
-                 "previous.png", "is both the mesh output and the image");
+                 "previous.png", "is both the mesh (-o previous.png) and the picture", 2);
   expect_refused("extract stack -t 128 -q", "stack", "nothing to write");
   // A phantom into a folder that holds slices would silently mix two stacks.
   expect_refused("phantom torus -o stack --size 12x10x3 -q", "stack", "already exists");
@@ -407,8 +384,7 @@ class Interrupt : public BadInput, public ::testing::WithParamInterface<int> {};
 TEST_P(Interrupt, MidRunLeavesNothingAndExitsWith128PlusTheSignal) {
   const int signal_number = GetParam();
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
-  const std::string before = dir_.listing();
-  const auto previous = previous_outputs();
+  const auto before = test::tree_snapshot(dir_.path());
 
   MvoxProcess mvox(interrupted_job(), dir_.path());
   FifoWriter fifo(dir_ / "volume.raw");
@@ -426,7 +402,7 @@ TEST_P(Interrupt, MidRunLeavesNothingAndExitsWith128PlusTheSignal) {
   EXPECT_EQ(ending.exit_code, 128 + signal_number);
   EXPECT_EQ(ending.errors, std::string("mvox: error: previous.ply: interrupted by ") +
                                signal_name(signal_number) + "\n");
-  expect_unchanged(before, previous);
+  test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 
 INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt, ::testing::Values(SIGINT, SIGTERM, SIGHUP),
@@ -439,8 +415,7 @@ INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt, ::testing::Values(SIGINT, SIGTERM,
 // cancellation, src/read_cancellation.h), not wait for a writer that may never close.
 TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
-  const std::string before = dir_.listing();
-  const auto previous = previous_outputs();
+  const auto before = test::tree_snapshot(dir_.path());
   std::vector<std::string> job = interrupted_job();
   // Vertices at slice 5 and beyond lie past the float range: a writer error mid-volume.
   for (const char* extra : {"--origin", "0,0,3.3e38", "--spacing", "1,1,2.5e36"})
@@ -458,7 +433,7 @@ TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   EXPECT_NE(ending.errors.find("mvox: error: previous.ply: vertex "), std::string::npos)
       << ending.errors;
   EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 1) << ending.errors;
-  expect_unchanged(before, previous);
+  test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 
 // True once a thread of process `pid` waits in open() for a FIFO's writer.
@@ -471,8 +446,7 @@ bool waits_for_fifo_writer(pid_t pid) {
 
 TEST_F(BadInput, InterruptWhileWaitingForTheInputNamesIt) {
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
-  const std::string before = dir_.listing();
-  const auto previous = previous_outputs();
+  const auto before = test::tree_snapshot(dir_.path());
   MvoxProcess mvox(interrupted_job(), dir_.path());
   // No writer: mvox blocks in open(), before any output exists.
   bool waiting = false;
@@ -485,15 +459,14 @@ TEST_F(BadInput, InterruptWhileWaitingForTheInputNamesIt) {
   const MvoxProcess::Ending ending = mvox.finish();
   EXPECT_EQ(ending.exit_code, 130);
   EXPECT_EQ(ending.errors, "mvox: error: volume.raw: interrupted by SIGINT\n");
-  expect_unchanged(before, previous);
+  test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 
 TEST_F(BadInput, ReaderClosingTheOutputPipeEndsMvoxQuietly) {
   // `mvox extract ... -o - | head -c 10`: a mesh far larger than the pipe's 64 KiB, so mvox is
   // still writing when the reader goes.
   ASSERT_EQ(run_mvox("phantom sphere -o big --size 96x96x64 -q", dir_.path()).exit_code, 0);
-  const std::string before = dir_.listing();
-  const auto previous = previous_outputs();
+  const auto before = test::tree_snapshot(dir_.path());
   MvoxProcess mvox({"extract", "big", "-t", "128", "-o", "-", "--image", "previous.png", "--stats",
                     "previous.json", "-q"},
                    dir_.path(), /*own_stdout=*/true);
@@ -504,7 +477,7 @@ TEST_F(BadInput, ReaderClosingTheOutputPipeEndsMvoxQuietly) {
   // message; the picture and the report, which could not appear together with the mesh, do not.
   EXPECT_EQ(ending.signal, SIGPIPE) << "exit code " << ending.exit_code << ": " << ending.errors;
   EXPECT_EQ(ending.errors, "");
-  expect_unchanged(before, previous);
+  test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 
 }  // namespace

@@ -158,7 +158,7 @@ TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
                         "--view", 2);
   // --format: a .png mesh output is otherwise a usage error (no mesh format has .png).
   expect_one_line_error(
-      run_mvox("extract stack -t 128 -o a.png --format ply --image a.png", dir.path()), "a.png");
+      run_mvox("extract stack -t 128 -o a.png --format ply --image a.png", dir.path()), "a.png", 2);
   expect_one_line_error(run_mvox("extract stack -t 128 --image no/dir/a.png", dir.path()),
                         "no/dir/a.png");
   expect_one_line_error(run_mvox("render missing.ply -o a.png", dir.path()), "missing.ply");

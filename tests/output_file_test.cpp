@@ -1,0 +1,152 @@
+// OutputFile and the publishing of several outputs together (src/output_file.h,
+// src/termination.h): all or none, even when a rename fails after another succeeded.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "command_runner.h"
+#include "error.h"
+#include "output_file.h"
+#include "termination.h"
+
+namespace fs = std::filesystem;
+
+namespace mvox {
+namespace {
+
+using test::ScratchDirectory;
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+void write_bytes(const fs::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+}
+
+// A temporary of the output registry holding `bytes`, as OutputFile makes them.
+int make_temporary(const fs::path& directory, const std::string& bytes) {
+  std::string name = (directory / ".output.XXXXXX").string();
+  int id = 0;
+  const int fd = create_output_temporary(name.data(), "output", &id);
+  EXPECT_GE(fd, 0);
+  EXPECT_EQ(::write(fd, bytes.data(), bytes.size()), static_cast<ssize_t>(bytes.size()));
+  ::close(fd);
+  return id;
+}
+
+std::size_t hidden_files(const fs::path& directory) {
+  std::size_t count = 0;
+  for (const auto& entry : fs::directory_iterator(directory))
+    count += entry.path().filename().string().front() == '.';
+  return count;
+}
+
+TEST(OutputPublication, ReplacesEveryTargetAndDeletesThePreviousFiles) {
+  ScratchDirectory dir;
+  write_bytes(dir.path() / "a", "old a");
+  const std::vector<Publication> items = {{make_temporary(dir.path(), "new a"), dir / "a"},
+                                          {make_temporary(dir.path(), "new b"), dir / "b"}};
+  std::size_t failed = 99;
+  EXPECT_EQ(publish_output_temporaries(items, &failed), 0);
+  EXPECT_EQ(read_bytes(dir.path() / "a"), "new a");
+  EXPECT_EQ(read_bytes(dir.path() / "b"), "new b");
+  EXPECT_EQ(hidden_files(dir.path()), 0u) << dir.listing();
+}
+
+// The third target cannot be replaced (it has become a directory, or its directory has gone):
+// the first two, already replaced or created, are brought back.
+TEST(OutputPublication, AFailedRenameUndoesTheOnesBeforeIt) {
+  for (const char* third : {"c", "gone/c"}) {
+    SCOPED_TRACE(third);
+    ScratchDirectory dir;
+    write_bytes(dir.path() / "a", "old a");
+    fs::create_directories(dir.path() / "c/inside");
+    const std::vector<Publication> items = {{make_temporary(dir.path(), "new a"), dir / "a"},
+                                            {make_temporary(dir.path(), "new b"), dir / "b"},
+                                            {make_temporary(dir.path(), "new c"), dir / third}};
+    std::size_t failed = 99;
+    EXPECT_NE(publish_output_temporaries(items, &failed), 0);
+    EXPECT_EQ(failed, 2u);
+    EXPECT_EQ(read_bytes(dir.path() / "a"), "old a");
+    EXPECT_FALSE(fs::exists(dir.path() / "b"));
+    EXPECT_TRUE(fs::is_directory(dir.path() / "c/inside"));
+    // The temporaries are still recorded, holding the new bytes; discarding deletes them.
+    EXPECT_EQ(hidden_files(dir.path()), 3u) << dir.listing();
+    for (const Publication& item : items) discard_output(item.id);
+    EXPECT_EQ(hidden_files(dir.path()), 0u) << dir.listing();
+  }
+}
+
+// OutputFile's own check, before any rename: an immutable target stops all of them.
+TEST(OutputPublication, PublishTogetherChecksEveryTargetFirst) {
+  ScratchDirectory dir;
+  write_bytes(dir.path() / "mesh.ply", "old mesh");
+  write_bytes(dir.path() / "report.json", "old report");
+  const int fd = ::open((dir.path() / "report.json").c_str(), O_RDONLY | O_CLOEXEC);
+  int flags = 0;
+  const bool immutable = fd >= 0 && ::ioctl(fd, FS_IOC_GETFLAGS, &flags) == 0 &&
+                         (flags |= FS_IMMUTABLE_FL, ::ioctl(fd, FS_IOC_SETFLAGS, &flags) == 0);
+  if (!immutable) {
+    if (fd >= 0) ::close(fd);
+    GTEST_SKIP() << "cannot make a file immutable here (needs root and chattr +i support)";
+  }
+  {
+    OutputFile mesh(dir / "mesh.ply");
+    OutputFile report(dir / "report.json");
+    mesh.write("new mesh", 8);
+    report.write("new report", 10);
+    mesh.seal();
+    report.seal();
+    try {
+      publish_together({&mesh, &report});
+      ADD_FAILURE() << "an immutable target was replaced";
+    } catch (const Error& error) {
+      EXPECT_EQ(error.subject(), dir / "report.json");
+      EXPECT_NE(error.problem().find("immutable"), std::string::npos) << error.what();
+    }
+  }
+  flags &= ~FS_IMMUTABLE_FL;
+  ::ioctl(fd, FS_IOC_SETFLAGS, &flags);
+  ::close(fd);
+  EXPECT_EQ(read_bytes(dir.path() / "mesh.ply"), "old mesh");
+  EXPECT_EQ(read_bytes(dir.path() / "report.json"), "old report");
+  EXPECT_EQ(hidden_files(dir.path()), 0u) << dir.listing();
+}
+
+TEST(OutputFile, ATargetNameOfTheLongestLengthGetsAShortenedTemporary) {
+  ScratchDirectory dir;
+  const std::string name(255, 'n');
+  OutputFile file(dir / name);
+  file.write("bytes", 5);
+  file.commit();
+  EXPECT_EQ(read_bytes(dir.path() / name), "bytes");
+}
+
+// Under /dev nothing is ever created: a name there that does not exist is an error.
+TEST(OutputFile, NothingIsCreatedUnderDev) {
+  try {
+    OutputFile file("/dev/mvox_no_such_device");
+    ADD_FAILURE() << "a file was created under /dev";
+    std::error_code ignored;
+    fs::remove("/dev/mvox_no_such_device", ignored);
+  } catch (const Error& error) {
+    EXPECT_NE(error.problem().find("never creates"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace mvox
