@@ -54,6 +54,7 @@ class SimulatedScanner final : public SliceSource {
   // returns false, and keeps returning false, after the last slice. The view stays valid until
   // the next call (it always points at the same buffer) or the scanner's destruction.
   bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override { return slice_.size(); }
 
   // Starts again from slice 0.
   void rewind() { next_z_ = 0; }

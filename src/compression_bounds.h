@@ -11,6 +11,8 @@
 // - LZW (TIFF): a code of at least 9 bits stands for at most 4096 bytes (the table holds 4096
 //   entries, each one byte longer than an earlier one): 4096 * 8 / 9, under 3641 to 1;
 // - RLE (DICOM): a 2-byte run codes at most 128 bytes: 64 to 1;
+// - JPEG lossless: every sample's difference needs a Huffman code of at least 1 bit, and
+//   samples have at most 16 bits: 16 to 1;
 // - JPEG baseline: every 8x8 block of every component needs at least a DC code and an end of
 //   block, 1 bit each, so 64 samples need at least 2 bits: 256 to 1 for 8-bit samples (512 for
 //   16-bit), plus the markers and tables, which only make the stream longer.
@@ -25,6 +27,7 @@ constexpr std::uint64_t kPackBitsMaxRatio = 64;
 constexpr std::uint64_t kLzwMaxRatio = 3641;
 constexpr std::uint64_t kRleMaxRatio = 64;
 constexpr std::uint64_t kJpegBaselineMaxRatio = 512;
+constexpr std::uint64_t kJpegLosslessMaxRatio = 16;
 
 // Every stream has some fixed overhead (headers, block headers, a final partial code) that is
 // not proportional to its length; this allowance covers it for any of the codecs above.

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 
+#include "compression_bounds.h"
 #include "dicom_header.h"
 
 namespace mvox {
@@ -134,6 +135,21 @@ std::string rle_problem(const DicomFragment& fragment, const DicomImageHeader& h
 
 }  // namespace
 
+namespace {
+
+// The most a frame's encoded bytes can decode to, per byte, in transfer syntax `uid`, or 0 when
+// the codec has no such bound (compression_bounds.h).
+std::uint64_t max_expansion(const std::string& uid) {
+  if (uid == "1.2.840.10008.1.2.5") return kRleMaxRatio;
+  if (uid == "1.2.840.10008.1.2.4.50" || uid == "1.2.840.10008.1.2.4.51")
+    return kJpegBaselineMaxRatio;  // baseline and extended sequential DCT
+  if (uid == "1.2.840.10008.1.2.4.57" || uid == "1.2.840.10008.1.2.4.70")
+    return kJpegLosslessMaxRatio;
+  return 0;  // JPEG-LS and JPEG 2000 have run modes without a bound
+}
+
+}  // namespace
+
 std::string compressed_pixel_data_problem(const std::vector<DicomFragment>& fragments,
                                           const DicomImageHeader& h) {
   const Codec codec = codec_of(h.transfer_syntax_uid);
@@ -154,6 +170,18 @@ std::string compressed_pixel_data_problem(const std::vector<DicomFragment>& frag
     const DicomFragment& first = *frames[k].first;
     const DicomFragment& last = *frames[k].second;
     std::string problem;
+    // A header that declares more than the frame's bytes can decode to: refused before GDCM
+    // allocates for it.
+    std::uint64_t encoded = 0;
+    for (const DicomFragment* f = &first; f <= &last; ++f) encoded += f->length;
+    if (const std::uint64_t ratio = max_expansion(h.transfer_syntax_uid);
+        ratio != 0 && !could_decode_to(encoded, ratio, dicom_frame_bytes(h))) {
+      problem = "its " + std::to_string(encoded) + " bytes of compressed data cannot hold a " +
+                std::to_string(h.columns) + "x" + std::to_string(h.rows) + " frame of " +
+                std::to_string(dicom_frame_bytes(h)) + " bytes (this codec expands at most " +
+                std::to_string(ratio) + " to 1)";
+      return h.frames > 1 ? "frame " + std::to_string(k + 1) + ": " + problem : problem;
+    }
     switch (codec) {
       case Codec::jpeg:
         problem = jpeg_header_problem(first.head, h);

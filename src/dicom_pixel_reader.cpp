@@ -11,6 +11,7 @@
 #include <exception>
 #include <optional>
 
+#include "buffer_allocation.h"
 #include "error.h"
 
 namespace mvox {
@@ -71,7 +72,7 @@ void DicomPixelReader::read_frame(const DicomImageHeader& expected, std::uint32_
       now->transfer_syntax_uid != expected.transfer_syntax_uid)
     throw Error(expected.path, "changed since the series was scanned");
   const std::uint64_t frame_bytes = dicom_frame_bytes(expected);
-  decoded.resize(frame_bytes);
+  resize_buffer(decoded, frame_bytes, expected.path, "a decoded frame");
   try {
     if (expected.frames == 1) {
       gdcm::ImageReader reader;

@@ -1,9 +1,11 @@
 #include "dicom_series_source.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <map>
 #include <utility>
 
+#include "buffer_allocation.h"
 #include "dicom_file_scan.h"
 #include "error.h"
 
@@ -86,8 +88,19 @@ DicomSeriesSource::DicomSeriesSource(const std::vector<std::string>& files, Dico
                  list_text(others) + "; choose one with --series UID");
   }
   plan_ = plan_dicom_volume(std::move(series[chosen].headers), options.label, options.note);
-  samples_.resize(std::size_t{plan_.info.width} * plan_.info.height *
-                  sample_bytes(plan_.info.type));
+  for (const DicomImageHeader& header : plan_.headers) {
+    std::error_code error;
+    const std::uintmax_t bytes = std::filesystem::file_size(header.path, error);
+    if (!error) largest_file_bytes_ = std::max<std::uint64_t>(largest_file_bytes_, bytes);
+  }
+}
+
+std::uint64_t DicomSeriesSource::working_bytes() const {
+  const std::uint64_t slice =
+      std::uint64_t{plan_.info.width} * plan_.info.height * sample_bytes(plan_.info.type);
+  const std::uint64_t frame = dicom_frame_bytes(plan_.headers.front());
+  // Our decoded frame and slice; GDCM's copy of the file and of the frame it decodes.
+  return slice + 2 * frame + largest_file_bytes_;
 }
 
 bool DicomSeriesSource::next_slice(SliceView* slice) {
@@ -95,6 +108,9 @@ bool DicomSeriesSource::next_slice(SliceView* slice) {
   const DicomSliceRef& ref = plan_.slices[next_index_];
   reader_.read_frame(plan_.headers[ref.header], ref.frame, decoded_);
   const std::size_t count = std::size_t{plan_.info.width} * plan_.info.height;
+  if (samples_.empty())
+    resize_buffer(samples_, std::uint64_t{count} * sample_bytes(plan_.info.type),
+                  plan_.headers[ref.header].path, "a slice");
   rescale_samples(decoded_.data(), count, ref.mapping, plan_.info.type, samples_.data());
   slice->samples = samples_.data();
   slice->width = plan_.info.width;

@@ -27,7 +27,9 @@ struct DicomOptions {
 // objects without an image (DICOMDIR, reports), are skipped; a .dcm/.dicom file or a file with the
 // preamble that is truncated or malformed is an error. The images are grouped by
 // SeriesInstanceUID and one series is planned (plan_dicom_volume); info() is exact from then on.
-// Memory: the headers of the chosen series, one decoded frame and one slice of samples.
+// Memory: the headers of the chosen series, one decoded frame and one slice of samples
+// (allocated at the first slice), and GDCM's copy of one file and of one frame while it decodes
+// (working_bytes()).
 // Throws mvox::Error: naming `options.label` when no file is a DICOM image; naming "--series"
 // with the available series and their slice counts when options.series_uid is not among them;
 // naming the file for everything plan_dicom_volume and read_dicom_image_header refuse, and, from
@@ -38,6 +40,7 @@ class DicomSeriesSource : public SliceSource {
 
   const VolumeInfo& info() const override { return plan_.info; }
   bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override;
 
   const DicomVolumePlan& plan() const { return plan_; }
   const std::string& series_uid() const { return plan_.headers.front().series_uid; }
@@ -48,6 +51,7 @@ class DicomSeriesSource : public SliceSource {
   std::vector<char> decoded_;           // GDCM's samples of the current frame
   std::vector<unsigned char> samples_;  // the current slice in info().type
   std::size_t next_index_ = 0;
+  std::uint64_t largest_file_bytes_ = 0;  // of the chosen series' files
 };
 
 }  // namespace mvox

@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "error.h"
 #include "input_files.h"
+#include "memory_plan.h"
 #include "mesh_job.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
@@ -29,6 +30,8 @@ struct ExtractArguments {
   MeshChoice mesh;
   bool normals = false;
   PictureChoice picture;
+  std::string max_memory;  // as given; empty: the default budget
+  bool dry_run = false;
 };
 
 // A threshold beyond what the samples can hold makes no voxel inner, or every voxel: an empty
@@ -108,6 +111,13 @@ void run_extract(const ExtractArguments& args) {
   job.mesh = mesh_writer_options(args.mesh, info, comment);
   job.normals = args.normals;
   job.picture = args.picture.options();
+  if (args.max_memory.empty()) {
+    job.budget = default_memory_budget();
+  } else {
+    job.budget.bytes = *parse_memory_size(args.max_memory);  // checked while parsing
+    job.budget.source = "--max-memory " + args.max_memory;
+  }
+  job.dry_run = args.dry_run;
   run_mesh_job(*source, job);
 }
 
@@ -161,6 +171,22 @@ void add_extract_command(CLI::App& app) {
   add_picture_options(*command, args->picture, PictureUse::extraction);
   command->add_option("--stats", args->stats_path,
                       "Also write a JSON report: dimensions, counts, time per phase, peak memory");
+  command
+      ->add_option("--max-memory", args->max_memory,
+                   "Refuse, before reading, a run that would take more memory than SIZE (e.g. "
+                   "64M, 2G; 'none': no limit). Default: the physical memory (or this process's "
+                   "cgroup or ulimit -v limit, if lower)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return parse_memory_size(text) ? std::string()
+                                           : "'" + text + "' is not a memory size: give e.g. "
+                                                          "512K, 64M, 2G, 1.5G, a number of "
+                                                          "bytes, or none";
+          },
+          "SIZE"));
+  command->add_flag("--dry-run", args->dry_run,
+                    "Read the input's headers only, check the outputs and the memory budget, "
+                    "print what the run would take, and stop: no slice is read, nothing written");
   command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");
   command->callback([args] { run_extract(*args); });
 }

@@ -15,7 +15,10 @@
 #include <utility>
 
 #include "error.h"
+#include "buffer_allocation.h"
 #include "image_file_check.h"
+#include "image_header.h"
+#include "slice_image_writer.h"
 
 namespace mvox {
 namespace {
@@ -98,7 +101,30 @@ void read_file(const std::string& path, std::vector<unsigned char>& bytes) {
   bytes.resize(used);
 }
 
-cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes) {
+// Refuses an image whose header shows it is not a slice like `info` (the first slice, named
+// `first`), before anything is decoded: not grey, too large, or of another size or depth.
+void check_header(const std::string& path, const ImageHeader& header, const VolumeInfo& info,
+                  const std::string& first) {
+  const std::string problem = image_size_problem(header);
+  if (!problem.empty()) throw Error(path, problem);
+  if (header.channels != 1)
+    throw Error(path, "colour image (" + std::to_string(header.channels) +
+                          " channels): convert to grayscale first");
+  if (first.empty()) return;
+  if (header.width != info.width || header.height != info.height)
+    throw Error(path, "image is " +
+                          size_text(static_cast<int>(header.width), static_cast<int>(header.height)) +
+                          ", expected " +
+                          size_text(static_cast<int>(info.width), static_cast<int>(info.height)) +
+                          " like the first slice (" + first + ")");
+  if (header.type != info.type && info.type != SampleType::i16)
+    throw Error(path, "image is " + depth_text(to_cv_depth(header.type)) + ", expected " +
+                          depth_text(to_cv_depth(info.type)) + " like the first slice (" + first +
+                          ")");
+}
+
+cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes,
+                   const VolumeInfo& info, const std::string& first) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw Error(path, "no such file");
   read_file(path, bytes);
@@ -106,6 +132,8 @@ cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes) {
   // into a wrong slice (image_file_check.h).
   const std::string problem = image_file_problem(bytes.data(), bytes.size());
   if (!problem.empty()) throw Error(path, problem);
+  if (const std::optional<ImageHeader> header = parse_image_header(bytes.data(), bytes.size()))
+    check_header(path, *header, info, first);
   cv::Mat image;
   // OpenCV reports a decoder's failure on std::cerr ("imdecode_(''): can't read data: ..."),
   // a line of its own; mvox gives the reason in its one error line instead. Only this thread
@@ -147,18 +175,42 @@ ImageStackSource::ImageStackSource(std::vector<std::string> files) : files_(std:
     throw Error("INPUT", "more than 2^32-1 slice files");
   }
   info_.depth = static_cast<std::uint32_t>(files_.size());
-  load(0);
+  initialize_image_codecs();  // OpenCV decodes every slice: its registry's memory is the program's
+  const std::string& first = files_[0];
+  std::error_code error;
+  if (!std::filesystem::exists(first, error)) throw Error(first, "no such file");
+  first_file_bytes_ = std::filesystem::file_size(first, error);
+  if (error) first_file_bytes_ = 0;
+  const std::optional<ImageHeader> header = read_image_header(first);
+  if (!header) {
+    load(0);  // a format whose header mvox does not read: the decoder tells
+    return;
+  }
+  check_header(first, *header, info_, "");
+  info_.width = header->width;
+  info_.height = header->height;
+  info_.type = header->type;
+  row_bytes_ = static_cast<std::size_t>(info_.width) * sample_bytes(info_.type);
+}
+
+std::uint64_t ImageStackSource::working_bytes() const {
+  const std::uint64_t slice = std::uint64_t{row_bytes_} * info_.height;
+  // The slice buffer, OpenCV's decoded image (one more slice), and the file's bytes: a slice's
+  // file is rarely larger than its samples, and the first file's size is known.
+  return 2 * slice + std::max(first_file_bytes_, slice) + 64 * 1024;
 }
 
 void ImageStackSource::load(std::size_t index) {
   const std::string& path = files_[index];
-  const cv::Mat image = read_image(path, file_bytes_);
+  // Until the first slice's size is known there is nothing to compare a header with.
+  const cv::Mat image =
+      read_image(path, file_bytes_, info_, info_.width == 0 ? std::string() : files_[0]);
 
   if (image.channels() != 1) {
     throw Error(path, "colour image (" + std::to_string(image.channels()) +
                           " channels): convert to grayscale first");
   }
-  if (index == 0) {
+  if (info_.width == 0) {  // the first slice, whose header could not be read
     SampleType type;
     if (!to_sample_type(image.depth(), &type)) {
       throw Error(path, "image is " + depth_text(image.depth()) +
@@ -168,7 +220,6 @@ void ImageStackSource::load(std::size_t index) {
     info_.height = static_cast<std::uint32_t>(image.rows);
     info_.type = type;
     row_bytes_ = static_cast<std::size_t>(image.cols) * sample_bytes(type);
-    buffer_.resize(row_bytes_ * info_.height);
   } else {
     if (image.cols != static_cast<int>(info_.width) ||
         image.rows != static_cast<int>(info_.height)) {
@@ -184,6 +235,7 @@ void ImageStackSource::load(std::size_t index) {
     }
   }
 
+  if (buffer_.empty()) resize_buffer(buffer_, std::uint64_t{row_bytes_} * info_.height, path, "a slice");
   // Copy row by row: a decoded Mat may pad its rows, and reusing buffer_ keeps the slice at one
   // address for the whole run.
   for (int y = 0; y < image.rows; ++y) {

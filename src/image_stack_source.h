@@ -1,6 +1,7 @@
 #pragma once
 // Reads a volume stored as one grayscale image per slice (PNG, TIFF, JPEG, BMP, PGM) via OpenCV.
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -9,19 +10,25 @@
 namespace mvox {
 
 // Slices come from `files` in the given order (list_input_files sorts them). The first file fixes
-// width, height and sample type and is decoded in the constructor, so info() is exact before any
-// slice is requested: depth = files.size(), spacing 1,1,1 (image files carry none we trust).
+// width, height and sample type, read from its header (image_header.h) by the constructor, so
+// info() is exact before any slice is decoded: depth = files.size(), spacing 1,1,1 (image files
+// carry none we trust). Only a first file whose format has no header mvox reads (a TIFF among
+// other images) is decoded by the constructor.
 // Accepted images: one channel, 8-bit unsigned (u8), 16-bit unsigned (u16) or 16-bit signed (i16).
-// Memory: one slice buffer, reused for every slice, plus the slice's file and OpenCV's decoded
-// image while a slice is being decoded and copied.
+// Every slice's header is checked against the first before it is decoded, so a slice that
+// declares another or a gigantic size is refused before a decoder allocates for it.
+// Memory: one slice buffer, reused for every slice and allocated at the first, plus the slice's
+// file and OpenCV's decoded image while a slice is being decoded and copied (working_bytes()).
 // Throws mvox::Error naming the file for an unreadable or corrupt image, a colour image, an
-// unsupported bit depth, or a size or bit depth that differs from the first slice.
+// unsupported bit depth, a size or bit depth that differs from the first slice, or an image of
+// more than 2^30 pixels (OpenCV's limit).
 class ImageStackSource : public SliceSource {
  public:
   explicit ImageStackSource(std::vector<std::string> files);
 
   const VolumeInfo& info() const override { return info_; }
   bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override;
 
  private:
   // Decodes files_[index] into buffer_, checking it against info_ (or setting info_ for the
@@ -33,8 +40,11 @@ class ImageStackSource : public SliceSource {
   std::vector<unsigned char> buffer_;      // the current slice, rows packed, native order
   std::vector<unsigned char> file_bytes_;  // the current slice's file, while it is decoded
   std::size_t row_bytes_ = 0;
-  std::size_t next_index_ = 0;    // file the next call to next_slice returns
-  std::size_t loaded_index_ = 0;  // file whose samples are in buffer_
+  std::uint64_t first_file_bytes_ = 0;  // size of the first file, for working_bytes()
+  std::size_t next_index_ = 0;          // file the next call to next_slice returns
+  // File whose samples are in buffer_: the constructor decodes the first one only when its
+  // header cannot be read.
+  std::size_t loaded_index_ = SIZE_MAX;
 };
 
 }  // namespace mvox

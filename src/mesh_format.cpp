@@ -2,6 +2,7 @@
 
 #include <cctype>
 
+#include "buffered_writer.h"
 #include "obj_writer.h"
 #include "ply_writer.h"
 #include "stl_writer.h"
@@ -38,6 +39,19 @@ std::optional<MeshFormat> mesh_format_of_path(const std::string& path) {
   if (extension == "stl") return MeshFormat::stl;
   if (extension == "obj") return MeshFormat::obj;
   return std::nullopt;
+}
+
+std::uint64_t mesh_writer_working_bytes(MeshFormat format) {
+  const std::uint64_t files = format == MeshFormat::obj ? 1 : format == MeshFormat::stl ? 2 : 3;
+  // The batches of MeshWriter: placed vertices and normals of a vertex batch (36 bytes each), a
+  // waiting polygon batch (32 each), and a run of faces with their positions: under 512 KiB for
+  // the engine's 4096-entry batches.
+  constexpr std::uint64_t kBatchBytes = 512 * 1024;
+  return files * BufferedWriter::kBufferBytes + kBatchBytes;
+}
+
+bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options) {
+  return format == MeshFormat::stl || options.triangulate;
 }
 
 std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat format,

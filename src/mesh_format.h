@@ -25,6 +25,15 @@ std::optional<MeshFormat> mesh_format_named(const std::string& name);
 // nothing (another extension, none, or "-" for standard output).
 std::optional<MeshFormat> mesh_format_of_path(const std::string& path);
 
+// The most memory a writer of `format` takes, whatever the mesh size: its write buffers
+// (BufferedWriter, one per file and spool file: PLY keeps faces, and on a pipe vertices too, in
+// spool files; STL keeps triangles in one on a pipe), and the shared MeshWriter's batches.
+std::uint64_t mesh_writer_working_bytes(MeshFormat format);
+
+// True when a writer of `format` with `options` needs every polygon's geometry from the engine
+// (EngineOptions::polygon_geometry): STL and --triangulate.
+bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options);
+
 // A writer of `format` to `path` ("-" for standard output). Throws mvox::Error as the writers do.
 std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat format,
                                              const MeshWriterOptions& options);

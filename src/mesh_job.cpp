@@ -14,6 +14,7 @@
 #include "pipeline.h"
 #include "prefetching_source.h"
 #include "progress.h"
+#include "slice_image_writer.h"
 #include "termination.h"
 
 namespace mvox {
@@ -42,6 +43,7 @@ void print_summary(const RunReport& r) {
   const EngineCounters& c = r.result.counters;
   const PhaseTimes& t = r.result.times;
   const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
+  const double mebibyte = 1 << 20;
   const std::string& named = r.output.empty() ? r.image : r.output;
   if (r.method == "cubes") {
     std::fprintf(stderr, "%s: %s vertices, %s triangles (marching cubes)", named.c_str(),
@@ -61,15 +63,15 @@ void print_summary(const RunReport& r) {
   std::fprintf(stderr,
                "\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
                "(%.0f Mvoxel/s), write %.3f s, render %.3f s\n  peak memory %.1f MiB, of which "
-               "%.1f MiB for this job "
-               "(the rest is libraries)\n",
+               "%.1f MiB for this job (planned %.1f MiB; the rest is libraries)\n",
                r.volume.width, r.volume.height, static_cast<unsigned long long>(c.slices),
                sample_type_name(r.volume.type), r.threshold, t.read_s, t.extract_s,
                t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s, t.render_s,
                static_cast<double>(r.peak_memory_bytes) / (1 << 20),
                static_cast<double>(r.peak_memory_bytes -
                                    std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
-                   (1 << 20));
+                   mebibyte,
+               static_cast<double>(r.memory_plan.job_bytes()) / mebibyte);
   if (!r.image.empty())
     std::fprintf(stderr,
                  "  picture %s: %s triangles drawn, %s hidden or between pixels, %s facing "
@@ -79,7 +81,48 @@ void print_summary(const RunReport& r) {
                  grouped(r.render.triangles_culled).c_str());
 }
 
+// What --dry-run prints: the input, the outputs, and the memory plan.
+void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& plan) {
+  std::printf("mvox extract --dry-run: %s, %ux%ux%u %s voxels, threshold %g\n",
+              r.input.c_str(), r.volume.width, r.volume.height, r.volume.depth,
+              sample_type_name(r.volume.type), r.threshold);
+  if (!job.output.empty())
+    std::printf("  mesh: %s (%s)\n", job.output.c_str(), mesh_format_name(job.format));
+  if (!job.picture.image_path.empty())
+    std::printf("  picture: %s (%ux%u)\n", job.picture.image_path.c_str(), job.picture.width,
+                job.picture.height);
+  if (!job.picture.frames_dir.empty())
+    std::printf("  frames: %s, every %u slices\n", job.picture.frames_dir.c_str(), job.picture.every);
+  if (!job.stats_path.empty()) std::printf("  report: %s\n", job.stats_path.c_str());
+  std::printf("memory (fixed for the whole run, whatever the number of slices):\n%s",
+              memory_plan_text(plan, job.budget).c_str());
+  std::printf("nothing read but headers, nothing written\n");
+  std::fflush(stdout);
+}
+
 }  // namespace
+
+MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
+                           const EngineOptions& engine) {
+  const VolumeInfo& info = source.info();
+  const std::uint64_t slice = std::uint64_t{info.width} * info.height * sample_bytes(info.type);
+  const bool picture = job.picture.wanted();
+  MemoryPlan plan;
+  plan.process_bytes = current_resident_bytes();
+  plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
+  plan.add("reader (slice and decoder buffers)", source.working_bytes());
+  plan.add("reading ahead (2 slices)", PrefetchingSource::buffer_bytes(info));
+  if (job.normals || (picture && job.picture.smooth)) plan.add("slice window (4 slices)", 4 * slice);
+  if (picture) {
+    // The z-buffer, and an encoded picture or frame: at most about one byte a pixel for the
+    // 8-bit picture, twice to allow for the encoder's own copy.
+    const std::uint64_t pixels = std::uint64_t{job.picture.width} * job.picture.height;
+    plan.add("picture (z-buffer, encoding)",
+             zbuffer_workspace_bytes(job.picture.width, job.picture.height) + 2 * pixels);
+  }
+  if (!job.output.empty()) plan.add("mesh writer buffers", mesh_writer_working_bytes(job.format));
+  return plan;
+}
 
 RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   RunReport report;
@@ -117,6 +160,27 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     frames = FramesTarget{job.picture.frames_dir, job.picture.every, report.volume.depth};
   check_output_targets(targets, frames, job.input_files);
 
+  // The memory the run will take, known before anything is allocated: a run that cannot fit,
+  // or slices too large to extract at all, are refused now rather than after gigabytes.
+  EngineOptions engine = job.engine;
+  engine.polygon_geometry =
+      want_picture || (want_mesh && mesh_writer_needs_geometry(job.format, job.mesh));
+  const VolumeInfo& info = report.volume;
+  if (engine_workspace_bytes(info.width, info.height, engine) == 0)
+    throw Error(job.input_label, "slices of " + std::to_string(info.width) + "x" +
+                                     std::to_string(info.height) +
+                                     " voxels are too large to extract");
+  if (want_picture) initialize_image_codecs();  // counted as library memory, not the run's
+  report.memory_plan = plan_job_memory(source, job, engine);
+  // The job's own memory is measured from here, as the plan's is.
+  report.start_memory_bytes = report.memory_plan.process_bytes;
+  report.memory_budget = job.budget;
+  check_memory_budget(report.memory_plan, job.budget, job.input_label);
+  if (job.dry_run) {
+    print_dry_run(report, job, report.memory_plan);
+    return report;
+  }
+
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
   std::optional<NormalWindow> normal_window;
@@ -124,7 +188,6 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     normal_window.emplace(report.volume, placement.spacing, job.input_label);
   const VertexNormals* normals = normal_window ? &normal_window->normals() : nullptr;
   std::unique_ptr<MeshWriter> writer;
-  EngineOptions engine = job.engine;
   if (want_mesh) {
     MeshWriterOptions mesh = job.mesh;
     mesh.normals = job.normals ? normals : nullptr;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "memory_plan.h"
 #include "mesh_format.h"
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
@@ -27,12 +28,25 @@ struct MeshJob {
   double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
   // Every file the source reads: no output may replace one (output_targets.h).
   std::vector<std::string> input_files;
+  // The most memory the run may take (memory_plan.h): checked against the plan before
+  // anything is allocated or read. Zero bytes: no limit.
+  MemoryBudget budget;
+  // Plan and check only: print the plan on standard output, allocate, read and write nothing.
+  bool dry_run = false;
 };
 
-// Runs the job; throws mvox::Error naming the file or stage at fault. On any failure no output
+// Runs the job; throws mvox::Error naming the file or stage at fault. Before anything is
+// allocated or created, the outputs are checked against the inputs and each other
+// (output_targets.h) and the run's memory plan against job.budget. On any failure no output
 // file is left behind (or a previous one is left untouched); the mesh, the picture and the
 // report appear together at the end. Frames, written during the run, are the exception.
 RunReport run_mesh_job(SliceSource& source, const MeshJob& job);
+
+// What the job will allocate for `source` (memory_plan.h): the engine's workspace, the reader's
+// buffers, reading ahead, the slice window for normals, the picture and the mesh writer.
+// `engine` as the job will run it (polygon_geometry set when a sink needs it).
+MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
+                           const EngineOptions& engine);
 
 // "123,456": large counts are easier to read with separators.
 std::string grouped(std::uint64_t value);

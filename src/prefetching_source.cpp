@@ -73,6 +73,10 @@ void PrefetchingSource::read_ahead() {
   }
 }
 
+std::uint64_t PrefetchingSource::buffer_bytes(const VolumeInfo& info) {
+  return 2 * std::uint64_t{info.width} * info.height * sample_bytes(info.type);
+}
+
 bool PrefetchingSource::next_slice(SliceView* slice) {
   std::unique_lock<std::mutex> lock(mutex_);
   // The caller is done with the view it got last time: its buffer may be read into again.

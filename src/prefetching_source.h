@@ -9,6 +9,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -29,6 +30,9 @@ class PrefetchingSource final : public SliceSource {
 
   const VolumeInfo& info() const override { return info_; }
   bool next_slice(SliceView* slice) override;
+
+  // The memory this adds to its inner source's for a volume of `info`: its two slice buffers.
+  static std::uint64_t buffer_bytes(const VolumeInfo& info);
 
  private:
   // One slice's samples, rows packed; filled by the reader, then handed to the caller.

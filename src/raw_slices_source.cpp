@@ -5,6 +5,7 @@
 #include <system_error>
 #include <utility>
 
+#include "buffer_allocation.h"
 #include "error.h"
 #include "raw_file.h"
 
@@ -33,7 +34,6 @@ RawSlicesSource::RawSlicesSource(std::vector<std::string> files, const RawFormat
   info_.height = format_.height;
   info_.depth = static_cast<std::uint32_t>(files_.size());
   info_.type = format_.type;
-  buffer_.resize(format_.slice_bytes());
 }
 
 bool RawSlicesSource::next_slice(SliceView* slice) {
@@ -41,6 +41,7 @@ bool RawSlicesSource::next_slice(SliceView* slice) {
   RawFile file(files_[next_index_]);
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
+  if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file.path(), "a slice");
   file.read_at(0, buffer_.data(), buffer_.size());
   *slice = native_slice_view(buffer_, format_);
   ++next_index_;

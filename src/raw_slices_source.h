@@ -13,7 +13,8 @@ namespace mvox {
 // Slice k is files[k] (list_input_files sorts them); every file must hold exactly
 // format.slice_bytes() bytes, rows packed, in format.byte_order. format.depth must be 0.
 // info(): format's width, height and type, depth = files.size(), spacing 1,1,1.
-// Memory: one slice buffer, reused; samples are swapped to native order in place.
+// Memory: one slice buffer, reused, allocated at the first slice; samples are swapped to native
+// order in place.
 // Throws mvox::Error: the constructor checks every file's size up front (a wrong size found
 // after an hour of streaming helps nobody); next_slice names the file on a read error.
 class RawSlicesSource : public SliceSource {
@@ -22,6 +23,7 @@ class RawSlicesSource : public SliceSource {
 
   const VolumeInfo& info() const override { return info_; }
   bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override { return format_.slice_bytes(); }
 
  private:
   std::vector<std::string> files_;

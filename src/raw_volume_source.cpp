@@ -1,5 +1,6 @@
 #include "raw_volume_source.h"
 
+#include "buffer_allocation.h"
 #include "error.h"
 
 namespace mvox {
@@ -16,7 +17,6 @@ RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& forma
   info_.height = format_.height;
   info_.depth = format_.depth;
   info_.type = format_.type;
-  buffer_.resize(format_.slice_bytes());
 }
 
 bool RawVolumeSource::next_slice(SliceView* slice) {
@@ -29,6 +29,7 @@ bool RawVolumeSource::next_slice(SliceView* slice) {
     }
     return false;
   }
+  if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file_.path(), "a slice");
   file_.read_at(std::uint64_t{next_index_} * buffer_.size(), buffer_.data(), buffer_.size());
   *slice = native_slice_view(buffer_, format_);
   ++next_index_;

@@ -17,7 +17,8 @@ namespace mvox {
 // length is checked as it arrives: a short one fails at the slice where it ends, a long one
 // after the last slice.
 // info(): format's width, height, depth and type, spacing 1,1,1.
-// Memory: one slice buffer, reused; samples are swapped to native order in place.
+// Memory: one slice buffer, reused, allocated at the first slice (not by the constructor, so
+// that a run's memory plan can refuse it first); samples are swapped to native order in place.
 // Throws mvox::Error naming the file when it cannot be opened, has the wrong size, or a read
 // fails.
 class RawVolumeSource : public SliceSource {
@@ -26,6 +27,7 @@ class RawVolumeSource : public SliceSource {
 
   const VolumeInfo& info() const override { return info_; }
   bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override { return format_.slice_bytes(); }
 
  private:
   RawFile file_;

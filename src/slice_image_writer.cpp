@@ -27,6 +27,14 @@ std::string extension_of(const std::string& path) {
 
 }  // namespace
 
+void initialize_image_codecs() {
+  try {
+    cv::haveImageWriter("image.png");
+  } catch (const cv::Exception&) {
+    // Only the registration matters here; a real encoder reports its own errors.
+  }
+}
+
 void check_image_extension(const std::string& path) {
   const std::string extension = extension_of(path);
   bool ok = false;

@@ -15,6 +15,12 @@ void write_slice_image(const std::string& path, const SliceView& slice);
 // file itself (say, together with others). Throws mvox::Error naming `path`.
 std::vector<unsigned char> encode_slice_image(const std::string& path, const SliceView& slice);
 
+// Makes OpenCV register its image codecs now. It does so on first use of any of them, and that
+// costs about 10 MiB of resident memory (Debian's OpenCV registers GDAL's drivers with them):
+// a run that will encode or decode through OpenCV calls this before its memory is planned, so
+// that the plan's "program and libraries" line includes it (memory_plan.h).
+void initialize_image_codecs();
+
 // Throws mvox::Error naming `path` unless its extension names an image format mvox can write
 // (.png, .pgm, .tif, .bmp, .jpg...): checked before a long run rather than after it. Standard
 // output ("-", /dev/stdout), devices and pipes without an extension get PNG.

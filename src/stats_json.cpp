@@ -81,6 +81,15 @@ std::string run_report_json(const RunReport& r) {
       << ", \"triangles_hidden\": " << r.render.triangles_hidden
       << ", \"fragments_written\": " << r.render.fragments_written << "},\n"
       << "  \"engine_workspace_bytes\": " << r.result.workspace_bytes << ",\n"
+      << "  \"memory_plan\": {\"parts\": [";
+  for (std::size_t i = 0; i < r.memory_plan.items.size(); ++i)
+    out << (i > 0 ? ", " : "") << "{\"name\": " << json_string(r.memory_plan.items[i].name)
+        << ", \"bytes\": " << r.memory_plan.items[i].bytes << "}";
+  out << "], \"job_bytes\": " << r.memory_plan.job_bytes()
+      << ", \"process_bytes\": " << r.memory_plan.process_bytes
+      << ", \"total_bytes\": " << r.memory_plan.total_bytes()
+      << ", \"budget_bytes\": " << r.memory_budget.bytes
+      << ", \"budget_source\": " << json_string(r.memory_budget.source) << "},\n"
       << "  \"start_memory_bytes\": " << r.start_memory_bytes << ",\n"
       << "  \"peak_memory_bytes\": " << r.peak_memory_bytes << ",\n"
       << "  \"job_memory_bytes\": "

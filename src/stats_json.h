@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "memory_plan.h"
 #include "mvox/slice_source.h"
 #include "mvox/zbuffer_renderer.h"
 #include "pipeline.h"
@@ -24,6 +25,8 @@ struct RunReport {
   PipelineResult result;
   std::uint64_t start_memory_bytes = 0;  // resident when the job started (libraries loaded)
   std::uint64_t peak_memory_bytes = 0;   // peak resident over the process's life
+  MemoryPlan memory_plan;                // what the run was planned to take
+  MemoryBudget memory_budget;            // and the budget it was checked against
 };
 
 std::string run_report_json(const RunReport& report);

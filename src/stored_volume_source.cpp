@@ -5,6 +5,8 @@
 #include <system_error>
 #include <utility>
 
+#include "buffer_allocation.h"
+#include "compression_bounds.h"
 #include "error.h"
 
 namespace fs = std::filesystem;
@@ -31,8 +33,14 @@ StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeD
   } else {
     check_compressed_size();
   }
-  const std::size_t samples = static_cast<std::size_t>(volume_.info.width) * volume_.info.height;
-  buffer_.resize(samples * sample_bytes(volume_.info.type));
+}
+
+std::uint64_t StoredVolumeSource::working_bytes() const {
+  const std::uint64_t slice =
+      std::uint64_t{volume_.info.width} * volume_.info.height * sample_bytes(volume_.info.type);
+  // zlib's input buffer, a buffer to measure the stream into, and zlib's state and window.
+  constexpr std::uint64_t kInflateBytes = 64 * 1024 + 64 * 1024 + 48 * 1024;
+  return slice + (volume_.compression == Compression::none ? 0 : kInflateBytes);
 }
 
 std::string StoredVolumeSource::volume_text() const {
@@ -76,6 +84,13 @@ void StoredVolumeSource::check_compressed_size() {
   }
   const std::uint64_t needed = data_.skip_decompressed + stored_volume_bytes(volume_);
   if (needed < data_.skip_decompressed) throw Error(data_.path, "byte skip is too large");
+  // A lying header, or a file cut short: refused before a byte is decompressed.
+  if (!could_decode_to(end - data_.offset, kDeflateMaxRatio, needed)) {
+    throw Error(data_.path, "its " + std::to_string(end - data_.offset) +
+                                " bytes of compressed data cannot hold the " +
+                                std::to_string(needed) + " bytes of " + volume_text() +
+                                " (deflate expands at most 1032 to 1)");
+  }
 
   // A single gzip member that records the expected size is taken at its word; everything else
   // (zlib, several members, a truncated file whose last bytes are not a trailer) is measured by
@@ -100,6 +115,11 @@ void StoredVolumeSource::check_compressed_size() {
 bool StoredVolumeSource::next_slice(SliceView* slice) {
   if (next_index_ >= volume_.info.depth) return false;
   const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
+  if (buffer_.empty())
+    resize_buffer(buffer_,
+                  std::uint64_t{volume_.info.width} * volume_.info.height *
+                      sample_bytes(volume_.info.type),
+                  data_.path, "a slice");
   if (inflate_) {
     inflate_->read(buffer_.data(), stored_bytes,
                    data_.skip_decompressed + stored_volume_bytes(volume_), volume_text());

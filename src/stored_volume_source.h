@@ -34,9 +34,13 @@ struct StoredVolumeData {
 // otherwise by decompressing the stream once without keeping it (a corrupt or short stream is
 // refused there, before extraction starts).
 // info(): the header's sizes, engine sample type, spacing, origin and axes.
-// Memory: one slice buffer (of the engine's sample type), plus 64 KiB of zlib input and zlib's
-// own 7 KiB + 32 KiB window when compressed. Samples are swapped to native order and signed
-// bytes widened to 16 bits in place.
+// Compressed data are also refused when the stream is too short to hold the volume at deflate's
+// largest ratio (compression_bounds.h), before anything is decompressed: a header may not make
+// a 100-byte file cost gigabytes.
+// Memory: one slice buffer (of the engine's sample type), allocated at the first slice, plus
+// 64 KiB of zlib input, 64 KiB to measure a stream into, and zlib's own 7 KiB + 32 KiB window
+// when compressed (working_bytes()). Samples are swapped to native order and signed bytes
+// widened to 16 bits in place.
 // Throws mvox::Error naming the data file: cannot open, too short (both sizes), corrupt.
 class StoredVolumeSource : public SliceSource {
  public:
@@ -44,6 +48,7 @@ class StoredVolumeSource : public SliceSource {
 
   const VolumeInfo& info() const override { return volume_.info; }
   bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override;
 
   // The file the samples are read from: the header itself for attached data.
   const std::string& data_path() const { return data_.path; }
