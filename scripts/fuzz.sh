@@ -55,7 +55,10 @@ for target in "${targets[@]}"; do
   work=$scratch/$target
   mkdir -p "$work/corpus" "$work/artifacts"
   if [ -d "$repo/fuzz/corpus/$target" ]; then cp -r "$repo/fuzz/corpus/$target/." "$work/corpus/"; fi
-  options=(-max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1
+  # Memory limits make a header that drives a large allocation a finding (out-of-memory), not a
+  # slow success: no single allocation may exceed 256 MiB, nor the process 1 GiB.
+  options=(-max_total_time="$seconds" -timeout=10 -rss_limit_mb=1024 -malloc_limit_mb=256
+    -print_final_stats=1
     -artifact_prefix="$work/artifacts/")
   if [ -f "$repo/fuzz/$target.dict" ]; then options+=(-dict="$repo/fuzz/$target.dict"); fi
   status=0

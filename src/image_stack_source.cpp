@@ -105,12 +105,14 @@ void read_file(const std::string& path, std::vector<unsigned char>& bytes) {
 // `first`), before anything is decoded: not grey, too large, or of another size or depth.
 void check_header(const std::string& path, const ImageHeader& header, const VolumeInfo& info,
                   const std::string& first) {
-  const std::string problem = image_size_problem(header);
-  if (!problem.empty()) throw Error(path, problem);
   if (header.channels != 1)
     throw Error(path, "colour image (" + std::to_string(header.channels) +
                           " channels): convert to grayscale first");
-  if (first.empty()) return;
+  if (first.empty()) {
+    const std::string problem = image_size_problem(header);
+    if (!problem.empty()) throw Error(path, problem);
+    return;
+  }
   if (header.width != info.width || header.height != info.height)
     throw Error(path, "image is " +
                           size_text(static_cast<int>(header.width), static_cast<int>(header.height)) +
@@ -121,6 +123,8 @@ void check_header(const std::string& path, const ImageHeader& header, const Volu
     throw Error(path, "image is " + depth_text(to_cv_depth(header.type)) + ", expected " +
                           depth_text(to_cv_depth(info.type)) + " like the first slice (" + first +
                           ")");
+  const std::string problem = image_size_problem(header);  // data too short for the image
+  if (!problem.empty()) throw Error(path, problem);
 }
 
 cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes,
@@ -195,9 +199,11 @@ ImageStackSource::ImageStackSource(std::vector<std::string> files) : files_(std:
 
 std::uint64_t ImageStackSource::working_bytes() const {
   const std::uint64_t slice = std::uint64_t{row_bytes_} * info_.height;
-  // The slice buffer, OpenCV's decoded image (one more slice), and the file's bytes: a slice's
-  // file is rarely larger than its samples, and the first file's size is known.
-  return 2 * slice + std::max(first_file_bytes_, slice) + 64 * 1024;
+  // The slice buffer, OpenCV's decoded image (one more slice), and one file's bytes. The files of
+  // a stack are of much the same size, so twice the first one's (and 1 MiB) allows for the
+  // largest; a compressed slice is not larger than its samples in any case.
+  const std::uint64_t file = std::min(slice + 64 * 1024, 2 * first_file_bytes_ + (1 << 20));
+  return 2 * slice + std::max(file, first_file_bytes_);
 }
 
 void ImageStackSource::load(std::size_t index) {

@@ -5,10 +5,13 @@
 // early ends mvox quietly, as SIGPIPE would (termination.h).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <new>
 #include <stdexcept>
 
 #include "commands.h"
+#include "allocation_failure.h"
 #include "error.h"
+#include "memory_plan.h"
 #include "standard_descriptors.h"
 #include "termination.h"
 
@@ -65,6 +68,16 @@ int main(int argc, char** argv) {
     return job_failure(e, 1);
   } catch (const std::invalid_argument& e) {
     return job_failure(e, 2);
+  } catch (const std::bad_alloc&) {
+    // Without this, the line would read "std::bad_alloc", naming neither input nor size.
+    const std::size_t bytes = mvox::failed_allocation_bytes();
+    return job_failure(
+        mvox::Error(mvox::interrupt_subject(),
+                    "out of memory" +
+                        (bytes > 0 ? ": an allocation of " + mvox::memory_text(bytes) + " failed"
+                                   : std::string()) +
+                        "; mvox extract --dry-run tells what a run needs"),
+        1);
   } catch (const std::exception& e) {
     return job_failure(e, 1);
   }

@@ -83,12 +83,13 @@ std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
   else if (unit.size() == 2 && (unit[1] == 'B' || unit[1] == 'b'))
     unit.resize(1);
   double scale = 1;
+  if (unit == "B" || unit == "b") unit.clear();
   if (unit.size() == 1) {
     const char* const kUnits = "KMGT";
     const char* found = std::strchr(kUnits, std::toupper(static_cast<unsigned char>(unit[0])));
     if (found == nullptr || *found == '\0') return std::nullopt;
     scale = std::ldexp(1.0, 10 * static_cast<int>(found - kUnits + 1));
-  } else if (!unit.empty() && unit != "B" && unit != "b") {
+  } else if (!unit.empty()) {
     return std::nullopt;
   }
   const double bytes = number * scale;

@@ -233,6 +233,12 @@ void set_interrupt_subject(const std::string& subject) {
   r.subject = subject;
 }
 
+std::string interrupt_subject() {
+  Registry& r = registry();
+  std::lock_guard<std::recursive_mutex> hold(r.lock);
+  return r.subject;
+}
+
 InterruptsDeferred::InterruptsDeferred() { registry().lock.lock(); }
 InterruptsDeferred::~InterruptsDeferred() { registry().lock.unlock(); }
 

@@ -83,6 +83,9 @@ int create_nameless_temporary(char* name_template);
 
 // What an interrupt names when no output is in progress, e.g. the input being opened.
 void set_interrupt_subject(const std::string& subject);
+// The subject last set ("mvox" before any): what a failure without a subject of its own, such
+// as running out of memory, names.
+std::string interrupt_subject();
 
 // While one exists, an interrupt waits: for steps that must not be split, such as publishing
 // several outputs that appear together. Keep the scope short; it may nest.

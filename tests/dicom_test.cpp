@@ -629,6 +629,33 @@ TEST(DicomSeries, CodestreamsThatDisagreeWithTheHeaderAreRefusedBeforeDecoding) 
                "its RLE header has 1 segments, 16-bit samples need 2");
 }
 
+// A header that declares a far larger image than its compressed frame can decode to (at the
+// codec's largest ratio, compression_bounds.h) is refused before GDCM allocates for it.
+TEST(DicomSeries, CompressedFramesTooShortForTheirDeclaredSizeAreRefused) {
+  ScratchDirectory dir;
+  DicomSliceSpec spec;
+  spec.width = 33;
+  spec.height = 24;
+  spec.stored = pattern(33, 24, 0);
+  test::write_dicom(dir / "plain.dcm", spec);
+  for (const char* syntax : {test::kRleLosslessUid, test::kJpegLosslessUid}) {
+    SCOPED_TRACE(syntax);
+    ScratchDirectory one;
+    ASSERT_TRUE(test::recode(dir / "plain.dcm", one / "image.dcm", syntax));
+    std::string bytes = file_bytes(one / "image.dcm");
+    // Rows (0028,0010) and Columns (0028,0011), explicit VR US: 4000 each, 32 MB a frame.
+    for (const char element : {'\x10', '\x11'}) {
+      const std::size_t at = bytes.find(std::string("\x28\x00", 2) + element + std::string("\x00US\x02\x00", 5));
+      ASSERT_NE(at, std::string::npos);
+      bytes[at + 8] = static_cast<char>(4000 & 0xff);
+      bytes[at + 9] = static_cast<char>(4000 >> 8);
+    }
+    put_bytes(one / "image.dcm", bytes);
+    expect_error([&] { open_series(one.path().string()); }, one / "image.dcm",
+                 "bytes of compressed data cannot hold a 4000x4000 frame of 32000000 bytes");
+  }
+}
+
 // GDCM asserts when an element it reads has another VR than the standard's, or an unknown one.
 TEST(DicomSeries, ElementsWithWrongOrUnknownVrsAreRefused) {
   ScratchDirectory dir;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "command_runner.h"
+#include "deflate.h"
 #include "error.h"
 #include "error_capture.h"
 #include "gtest/gtest.h"
@@ -35,6 +36,7 @@ namespace fs = std::filesystem;
 namespace mvox {
 namespace {
 
+using test::deflate_bytes;
 using test::error_of;
 
 using test::expect_one_line_error;
@@ -58,21 +60,6 @@ std::string text_of(const std::vector<unsigned char>& bytes) {
   return std::string(bytes.begin(), bytes.end());
 }
 
-// `data` compressed with zlib, as a gzip member (gzip) or a zlib stream (MetaImage).
-std::vector<unsigned char> deflate_bytes(const std::vector<unsigned char>& data, bool gzip) {
-  z_stream stream{};
-  // windowBits 15 + 16 asks deflate for a gzip header and trailer instead of zlib's.
-  EXPECT_EQ(deflateInit2(&stream, 9, Z_DEFLATED, gzip ? 15 + 16 : 15, 8, Z_DEFAULT_STRATEGY), Z_OK);
-  std::vector<unsigned char> out(deflateBound(&stream, data.size()) + 64);
-  stream.next_in = const_cast<unsigned char*>(data.data());
-  stream.avail_in = static_cast<uInt>(data.size());
-  stream.next_out = out.data();
-  stream.avail_out = static_cast<uInt>(out.size());
-  EXPECT_EQ(deflate(&stream, Z_FINISH), Z_STREAM_END);
-  out.resize(stream.total_out);
-  deflateEnd(&stream);
-  return out;
-}
 
 // Every sample of the volume the factory opens for `path` (no --raw).
 template <typename T>

@@ -22,6 +22,9 @@ std::map<std::string, std::string> tree_snapshot(const fs::path& root) {
       entries[name] = "link:" + fs::read_symlink(it->path()).string();
     } else if (it->is_directory()) {
       entries[name] = "directory";
+    } else if (it->is_regular_file() && it->file_size() > (std::uintmax_t{64} << 20)) {
+      entries[name] = "large file:" + std::to_string(it->file_size()) + ":" +
+                      std::to_string(it->last_write_time().time_since_epoch().count());
     } else if (it->is_regular_file()) {
       std::ifstream in(it->path(), std::ios::binary);
       std::stringstream bytes;

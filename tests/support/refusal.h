@@ -10,7 +10,9 @@
 namespace mvox::test {
 
 // Every entry under `root`, recursively and hidden ones included: its path relative to `root`,
-// mapped to what it is: "file:" and its bytes, "link:" and its target, or "directory".
+// mapped to what it is: "file:" and its bytes, "link:" and its target, or "directory". Files
+// over 64 MiB (a sparse file standing for a huge scan) are "large file:" with their size and
+// modification time instead of their bytes.
 std::map<std::string, std::string> tree_snapshot(const std::filesystem::path& root);
 
 // Adds a test failure for each entry added, removed or changed between two snapshots.

@@ -1,0 +1,46 @@
+// Fuzzes whole NRRD and MetaImage files, header and data, through the readers behind
+// `mvox extract` (src/nrrd_file.h, src/metaimage_file.h, src/stored_volume_source.h).
+//
+// Input: one byte choosing the format (even: NRRD, odd: MetaImage), then the file. Properties:
+// a file is refused with one printable line, or it streams exactly the declared slices; and
+// what it costs stays in proportion to its bytes: the reader's working memory never exceeds
+// what the file's bytes can decode to at deflate's largest ratio (compression_bounds.h). Run
+// with -malloc_limit_mb (scripts/fuzz.sh does), a header that drives a large allocation is a
+// finding even where no property check sees it.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "compression_bounds.h"
+#include "error.h"
+#include "fuzz_check.h"
+#include "memory_file.h"
+#include "metaimage_file.h"
+#include "nrrd_file.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 1) return 0;
+  const bool metaimage = data[0] & 1;
+  const std::string& path = mvox::fuzz::memory_file_with(data + 1, size - 1);
+  try {
+    std::unique_ptr<mvox::StoredVolumeSource> source =
+        metaimage ? mvox::open_metaimage_volume(path) : mvox::open_nrrd_volume(path);
+    const mvox::VolumeInfo& info = source->info();
+    const std::uint64_t slice =
+        std::uint64_t{info.width} * info.height * mvox::sample_bytes(info.type);
+    // Widened signed bytes take two bytes a sample, so twice deflate's ratio bounds a slice.
+    MVOX_FUZZ_CHECK(mvox::could_decode_to(size, 2 * mvox::kDeflateMaxRatio, slice),
+                    "a slice of " + std::to_string(slice) + " bytes from a file of " +
+                        std::to_string(size));
+    mvox::SliceView view;
+    std::uint32_t slices = 0;
+    while (source->next_slice(&view)) {
+      MVOX_FUZZ_CHECK(view.width == info.width && view.height == info.height, "slice size");
+      ++slices;
+    }
+    MVOX_FUZZ_CHECK(slices == info.depth, "slice count");
+  } catch (const mvox::Error& error) {
+    MVOX_FUZZ_CHECK(mvox::fuzz::is_one_printable_line(error.what()), error.what());
+  }
+  return 0;
+}
