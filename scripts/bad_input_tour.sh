@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # A tour of bad input: runs each kind once against build/src/mvox (or $MVOX) in a temporary
 # directory and prints a Markdown table: case | command | exit code | the error line | files
-# left. Every case asks for a mesh, a picture and a report where a previous version of each
-# already exists, so "files left" shows any new file or temporary and any previous output that
-# changed; "none" is the only good answer. The same cases, with assertions, are
-# tests/bad_input_test.cpp.
+# left | peak memory. Most cases ask for a mesh, a picture and a report where a previous version
+# of each already exists, so "files left" shows any new file or temporary, and any file that
+# changed, inputs included; "none" is the only good answer (but for the cases meant to succeed,
+# whose outputs are listed). Peak memory is the largest resident size of the mvox processes of
+# the case (/usr/bin/time). The same cases, with assertions, are tests/bad_input_test.cpp,
+# tests/output_targets_test.cpp, tests/lying_headers_test.cpp and tests/memory_plan_test.cpp.
 #
 #   scripts/bad_input_tour.sh            # after: cmake --build build --target mvox
 set -uo pipefail
@@ -15,8 +17,9 @@ if [ ! -x "$mvox_binary" ]; then
   echo "bad_input_tour.sh: $mvox_binary is not built; run: cmake --build build --target mvox" >&2
   exit 1
 fi
-# Commands are shown, and run, as a user types them.
-mvox() { "$mvox_binary" "$@"; }
+# Commands are shown, and run, as a user types them; each run's peak memory (KiB) is noted.
+peak_file=/dev/null
+mvox() { /usr/bin/time -f %M -a -o "$peak_file" "$mvox_binary" "$@"; }
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -65,16 +68,44 @@ new_case() {
   cd "$case_dir" || exit 1
 }
 
-snapshot() { ls -A | sort; md5sum previous.* 2> /dev/null; }
+# Every entry under the case directory with a checksum of each file (size and time for files
+# over 64 MiB, sparse stand-ins for huge scans; a type letter for the rest).
+snapshot() {
+  find . -mindepth 1 -print0 | sort -z | while IFS= read -r -d '' entry; do
+    if [ -f "$entry" ] && [ ! -L "$entry" ]; then
+      if [ "$(stat -c %s "$entry")" -gt $((64 << 20)) ]; then
+        echo "$(stat -c %s.%Y "$entry") $entry"
+      else
+        echo "$(md5sum < "$entry" | cut -d' ' -f1) $entry"
+      fi
+    else
+      echo "$(stat -c %F "$entry" | tr ' ' _) $entry"
+    fi
+  done
+}
 
-# What is in the directory that was not, and which previous outputs changed.
+# What is in the directory that was not, and what changed or went.
 files_left() {
-  local before=$1 left
-  left=$(comm -13 <(echo "$before" | grep -v '  previous\.') <(ls -A | sort) | tr '\n' ' ')
+  local before=$1 after left=""
+  after=$(snapshot)
   while read -r sum name; do
-    [ "$(md5sum < "$name" | cut -d' ' -f1)" = "$sum" ] || left+="$name CHANGED "
-  done < <(echo "$before" | grep '  previous\.')
+    [ -n "$name" ] || continue
+    local then
+    then=$(grep -F -- " $name" <<< "$before" | awk -v n="$name" '$2 == n {print $1}' | head -n 1)
+    if [ -z "$then" ]; then left+="${name#./} "; elif [ "$then" != "$sum" ]; then left+="${name#./} CHANGED "; fi
+  done <<< "$after"
+  while read -r sum name; do
+    [ -n "$name" ] || continue
+    grep -qF -- " $name" <<< "$after" || left+="${name#./} GONE "
+  done <<< "$before"
   echo "${left:-none}"
+}
+
+# The largest peak of the case's mvox runs, or "-" when none was timed.
+peak_memory() {
+  local kib
+  kib=$(grep -E '^[0-9]+$' "$peak_file" 2> /dev/null | sort -n | tail -n 1)
+  if [ -n "$kib" ]; then echo "$((kib / 1024)) MiB"; else echo "-"; fi
 }
 
 escape() { sed -e 's/|/\\|/g'; }
@@ -89,8 +120,8 @@ row() {
     line+=" (+$((lines - 1)) more lines!)"
   fi
   [ -n "$output" ] || line="(no message)"
-  printf '| %s | `%s` | %s | %s | %s |\n' "$(escape <<< "$title")" "$(escape <<< "$command")" "$status" \
-    "$(escape <<< "$line")" "$(files_left "$before")"
+  printf '| %s | `%s` | %s | %s | %s | %s |\n' "$(escape <<< "$title")" "$(escape <<< "$command")" \
+    "$status" "$(escape <<< "$line")" "$(files_left "$before" | escape)" "$(peak_memory)"
 }
 
 # tour CASE SETUP COMMAND: runs SETUP (unreported), then COMMAND, in a fresh case directory.
@@ -98,10 +129,13 @@ tour() {
   local title=$1 setup=$2 command=$3 before output status
   new_case
   eval "$setup" > /dev/null 2>&1
+  peak_file=$work/peak$case_number
+  : > "$peak_file"
   before=$(snapshot)
   output=$(eval "$command" 2>&1)
   status=$?
   row "$title" "$status" "$output" "$command" "$before"
+  peak_file=/dev/null
 }
 
 # The interrupt: mvox reads a raw volume from a FIFO that gets three 64 KiB slices, so its
@@ -134,8 +168,8 @@ interrupt() {
 
 echo "Bad input tour: $("$mvox_binary" --version) at $mvox_binary"
 echo
-echo "| case | command | exit | error line | files left |"
-echo "|---|---|---|---|---|"
+echo "| case | command | exit | error line | files left | peak memory |"
+echo "|---|---|---|---|---|---|"
 tour "missing slice file" "" \
   "mvox extract stack/sphere_0000.png stack/sphere_0001.png stack/sphere_0009.png -t 128 $outputs"
 tour "slice is a dangling symbolic link" \
@@ -185,6 +219,36 @@ tour "full disk: report" "" "mvox extract stack -t 128 -o previous.ply --stats /
 tour "file-size limit (ulimit -f 4)" "mvox phantom sphere -o big --size 40x40x30 -q" \
   "(ulimit -f 4; mvox extract big -t 128 -o previous.ply -q)"
 tour "outputs that collide" "" "mvox extract stack -t 128 -o previous.ply --stats previous.ply"
+# Outputs that would destroy an input, or each other: compared by identity, before anything runs.
+raw_volume="head -c 24000 /dev/urandom > vol.raw"
+tour "the mesh onto the raw scan it reads" "$raw_volume" \
+  "mvox extract vol.raw --raw 40x30x20:u8 -t 100 --format ply -o vol.raw"
+tour "the mesh onto a slice of the input stack" "" \
+  "mvox extract stack -t 128 --format ply -o stack/sphere_0000.png"
+tour "the mesh through a symbolic link to the input" "$raw_volume; ln -s vol.raw link.ply" \
+  "mvox extract vol.raw --raw 40x30x20:u8 -t 100 -o link.ply"
+tour "the report through a hard link to the input" "$raw_volume; ln vol.raw hard.json" \
+  "mvox extract vol.raw --raw 40x30x20:u8 -t 100 -o mesh.ply --stats hard.json"
+tour "a NRRD's detached data file as the picture" \
+  "$raw_volume; printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 40 30 20\nencoding: raw\ndata file: vol.raw\n' > vol.nhdr" \
+  "mvox extract vol.nhdr -t 100 --image vol.raw"
+tour "frames onto input slices named like frames" \
+  "mkdir scans; for z in 0 1 2 3 4 5 6 7; do cp stack/sphere_000\$z.png scans/frame_000\$z.png; done" \
+  "mvox extract scans -t 128 --frames scans --every 2 $outputs"
+tour "mesh and report as one file by two spellings" "" "mvox extract stack -t 128 -o x.ply --stats ./x.ply"
+tour "mesh and report both on standard output" "" "mvox extract stack -t 128 -o - --stats - > out.txt"
+tour "picture into a frame's place" "" "mvox extract stack -t 128 --frames f --every 4 --image f/frame_0008.png"
+tour "/dev/stdout redirected to a file (written through)" "" \
+  "mvox extract stack -t 128 -o /dev/stdout -q > mesh.ply; ls -l /dev/stdout | cut -c1"
+tour "standard output closed (-o - >&-)" "" "mvox extract stack -t 128 -o - -q >&-"
+tour "an immutable report: the mesh must not be replaced either" "chattr +i previous.json" \
+  "mvox extract stack -t 128 $outputs; chattr -i previous.json"
+tour "another user's report in a sticky directory" \
+  "chmod 777 .; mkdir -m 1777 shared; echo theirs > shared/r.json; chown 65534 shared/r.json; echo mine > shared/m.ply; chown 65533 shared/m.ply" \
+  "setpriv --reuid=65533 --regid=65533 --clear-groups $mvox_binary extract stack -t 128 -o shared/m.ply --stats shared/r.json -q"
+tour "the mesh beside the input, another name (fine)" "" "mvox extract stack -t 128 -o stack/mesh.ply -q"
+tour "an output name of 255 bytes (fine)" "" \
+  "mvox extract stack -t 128 -q -o \$(printf 'm%.0s' \$(seq 251)).ply"
 # Volume files and DICOM.
 tour "NRRD: data shorter than its sizes" \
   "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 9\nencoding: raw\n\n'; head -c 960 /dev/zero; } > cut.nrrd" \
@@ -201,6 +265,58 @@ tour "MetaImage: data file missing" \
 tour "MetaImage: --raw given as well" \
   "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n' > head.mha" \
   "mvox extract head.mha --raw 12x10x8:u8 -t 1 $outputs"
+# Headers that lie, and runs larger than the memory they may take: refused from the header.
+tour "gzip NRRD: 23 bytes declaring a 65536x65536 slice" \
+  "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 65536 65536 1\nencoding: gzip\n\n'; head -c 10 /dev/zero | gzip -c; } > big.nrrd" \
+  "mvox extract big.nrrd -t 1 $outputs"
+tour "gzip NRRD: 30000x30000x3 u16 in 150 bytes, with a picture" \
+  "{ printf 'NRRD0004\ntype: uint16\ndimension: 3\nsizes: 30000 30000 3\nendian: little\nencoding: gzip\n\n'; head -c 1000 /dev/zero | gzip -c; } > big.nrrd" \
+  "mvox extract big.nrrd -t 1 $outputs"
+tour "zlib MetaImage declaring 30000x30000x3" \
+  "{ printf 'NDims = 3\nDimSize = 30000 30000 3\nElementType = MET_USHORT\nCompressedData = True\nElementDataFile = LOCAL\n'; head -c 1000 /dev/zero | python3 -c 'import sys, zlib; sys.stdout.buffer.write(zlib.compress(sys.stdin.buffer.read()))'; } > big.mha" \
+  "mvox extract big.mha -t 1 $outputs"
+tour "raw slices of 65536x65536 (a 4 GiB sparse file)" "truncate -s 4G huge.raw" \
+  "mvox extract huge.raw --raw 65536x65536x1:u8 -t 1 $outputs"
+tour "NRRD header of 65536x65536 raw slices" \
+  "truncate -s 4G huge.raw; printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 65536 65536 1\nencoding: raw\ndata file: huge.raw\n' > huge.nhdr" \
+  "mvox extract huge.nhdr -t 1 $outputs"
+# write_png W H ROWS: a grey PNG declaring WxH whose data hold ROWS rows of zeros.
+write_png() {
+  python3 -c "import struct, sys, zlib
+w, h, rows = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
+def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d))
+c = zlib.compressobj(9)
+idat = b''.join(c.compress(bytes(w + 1)) for _ in range(rows)) + c.flush()
+sys.stdout.buffer.write(b'\\x89PNG\\r\\n\\x1a\\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 0, 0, 0, 0))
+                        + chunk(b'IDAT', idat) + chunk(b'IEND', b''))" "$@"
+}
+# gzip_with_trailer N SIZE: a gzip member of N zero bytes whose trailer claims SIZE bytes.
+gzip_with_trailer() {
+  python3 -c "import gzip, struct, sys
+d = gzip.compress(bytes(int(sys.argv[1])))
+sys.stdout.buffer.write(d[:-4] + struct.pack('<I', int(sys.argv[2])))" "$@"
+}
+tour "PNG header of 65535x65535" \
+  "mkdir big; write_png 65535 65535 1 > big/s0.png" "mvox extract big -t 1 $outputs"
+tour "PNG of 20000x20000 holding one row of data" \
+  "mkdir big; write_png 20000 20000 1 > big/s0.png" "mvox extract big -t 1 $outputs"
+tour "a valid 30000x30000 PNG, over --max-memory 1G" \
+  "mkdir big; write_png 30000 30000 30000 > big/s0.png" \
+  "mvox extract big -t 1 --max-memory 1G $outputs"
+tour "the same PNG, --dry-run (the plan's total line)" \
+  "mkdir big; write_png 30000 30000 30000 > big/s0.png" \
+  "mvox extract big -t 1 --dry-run $outputs | grep total"
+tour "gzip NRRD: data short, trailer claims the full size" \
+  "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 10\nencoding: gzip\n\n'; gzip_with_trailer 1100 1200; } > t.nrrd" \
+  "mvox extract t.nrrd -t 1 $outputs"
+tour "gzip NRRD: data short, trailer claims less" \
+  "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 10\nencoding: gzip\n\n'; gzip_with_trailer 1100 100; } > t.nrrd" \
+  "mvox extract t.nrrd -t 1 $outputs"
+tour "gzip NRRD: data complete, trailer claims less" \
+  "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 10\nencoding: gzip\n\n'; gzip_with_trailer 1200 0; } > t.nrrd" \
+  "mvox extract t.nrrd -t 1 $outputs"
+tour "out of memory mid-run (ulimit -v, --max-memory none)" "truncate -s 96000000 large.raw" \
+  "(ulimit -v 300000; mvox extract large.raw --raw 4000x4000x3:u16le -t 1 --max-memory none $outputs)"
 tour "TIFF stack: a page of another size" "python3 $work/make_tiff.py pages.tif 12x10 12x10 14x10" \
   "mvox extract pages.tif -t 10 $outputs"
 dicom=$repo/../shared/datasets/dicom_mr_bbmri_6slices
@@ -218,7 +334,7 @@ if [ -d "$dicom" ]; then
     "mkdir scans; cp $dicom/*.dcm scans/" \
     "mvox extract scans -t 300 --series 1.2.3 $outputs"
 else
-  echo "| DICOM cases | skipped: $dicom is absent | | | |"
+  echo "| DICOM cases | skipped: $dicom is absent | | | | |"
 fi
 # Mesh formats.
 tour "unknown mesh extension" "" "mvox extract stack -t 128 -o mesh.vrml -q"
