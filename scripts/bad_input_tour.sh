@@ -11,6 +11,8 @@ set -uo pipefail
 
 repo=$(cd "$(dirname "$0")/.." && pwd)
 mvox_binary=${MVOX:-$repo/build/src/mvox}
+# Each case runs in a directory of its own: a relative $MVOX is made absolute first.
+case $mvox_binary in /*) ;; *) mvox_binary=$PWD/$mvox_binary ;; esac
 if [ ! -x "$mvox_binary" ]; then
   echo "bad_input_tour.sh: $mvox_binary is not built; run: cmake --build build --target mvox" >&2
   exit 1
@@ -171,6 +173,15 @@ tour "unknown --method" "" "mvox extract stack -t 128 --method foo $outputs"
 tour "unknown --surface" "" "mvox extract stack -t 128 --surface foo $outputs"
 tour "unknown --raw type" "" "mvox extract stack --raw 12x10:u7 -t 128 $outputs"
 tour "bad --image-size" "" "mvox extract stack -t 128 --image-size 0x0 $outputs"
+# Numbers that are not what they seem (NaN passes a range check, sscanf and strtoull wrap).
+tour "--view NaN" "" "mvox extract stack -t 128 --view nan,0 $outputs"
+tour "--fov NaN" "" "mvox extract stack -t 128 --perspective --fov nan $outputs"
+tour "--image-size with an exponent" "" "mvox extract stack -t 128 --image-size 1e3 $outputs"
+tour "--image-size past 32 bits" "" "mvox extract stack -t 128 --image-size 4294967808 $outputs"
+tour "--spacing 0" "" "mvox extract stack -t 128 --spacing 0,1,1 $outputs"
+tour "--spacing past float's range" "" "mvox extract stack -t 128 --spacing 1,1,1e300 $outputs"
+tour "--every with an exponent" "" "mvox extract stack -t 128 --every 1e3 --frames f $outputs"
+tour "phantom --seed -1" "" "mvox phantom sphere -o more --seed -1 -q"
 tour "threshold above u8" "" "mvox extract stack -t 300 $outputs"
 tour "threshold at u8's minimum" "" "mvox extract stack -t 0 $outputs"
 tour "no threshold" "" "mvox extract stack $outputs"

@@ -8,6 +8,7 @@
 #include "mesh_format.h"
 #include "mesh_writer.h"
 #include "mvox/engine.h"
+#include "option_validators.h"
 #include "surface_picture.h"
 
 namespace mvox {
@@ -18,9 +19,6 @@ struct EngineChoice {
   std::string surface = "merge-rules";
   EngineOptions options() const;
 };
-
-// Accepts a finite number (refuses nan and inf), for thresholds.
-CLI::Validator finite_number();
 
 // --method, --engine, --surface.
 void add_engine_options(CLI::App& command, EngineChoice& choice);

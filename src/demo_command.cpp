@@ -63,7 +63,7 @@ void add_demo_command(CLI::App& app) {
       ->check(CLI::IsMember(sim::phantom_names()))
       ->capture_default_str();
   command->add_option("--size", args->size, "Voxels along each axis")
-      ->check(CLI::Range(2u, 4096u))
+      ->transform(whole_number_from(2, 4096))
       ->capture_default_str();
   command->add_option("-o,--output", args->output, "Output mesh: .ply, .stl or .obj")
       ->capture_default_str();

@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <regex>
 
 #include "commands.h"
 #include "error.h"
+#include "option_validators.h"
 #include "phantom_factory.h"
 #include "simulated_scanner.h"
 #include "slice_image_writer.h"
@@ -105,7 +107,9 @@ void add_phantom_command(CLI::App& app) {
   command->add_option("--format", args->format, "Image format")
       ->check(CLI::IsMember({"png", "tif", "pgm"}))
       ->capture_default_str();
-  command->add_option("--seed", args->seed, "Seed for the random phantoms")->capture_default_str();
+  command->add_option("--seed", args->seed, "Seed for the random phantoms")
+      ->transform(whole_number_from(0, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
   command->add_flag("-q,--quiet", args->quiet, "Print nothing");
   command->callback([args] { run_phantom(*args); });
 }
