@@ -140,6 +140,11 @@ echo "| case | command | exit | error line | files left |"
 echo "|---|---|---|---|---|"
 tour "missing slice file" "" \
   "mvox extract stack/sphere_0000.png stack/sphere_0001.png stack/sphere_0009.png -t 128 $outputs"
+# Names holding control characters: printed escaped, so the error stays one line.
+tour "input named with a newline" "" \
+  "mvox extract \"\$(printf 'no\\nsuch')\" -t 128 $outputs"
+tour "--method value with a newline" "" \
+  "mvox extract stack -t 128 --method \"\$(printf 'cubes\\nfoo')\" $outputs"
 tour "slice is a dangling symbolic link" \
   "rm stack/sphere_0004.png; ln -s lost.png stack/sphere_0004.png" \
   "mvox extract stack -t 128 $outputs"

@@ -9,6 +9,7 @@
 #include "error.h"
 #include "input_files.h"
 #include "mesh_job.h"
+#include "message_line.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
 #include "termination.h"
@@ -84,7 +85,7 @@ void run_extract(const ExtractArguments& args) {
   std::unique_ptr<SliceSource> source = open_slice_source(args.inputs, raw, dicom);
   const VolumeInfo& info = source->info();
   check_threshold_range(inputs_label(args.inputs), info.type, args.threshold);
-  for (const std::string& line : notes) std::fprintf(stderr, "mvox: note: %s\n", line.c_str());
+  for (const std::string& line : notes) print_message("note", line);
 
   MeshJob job;
   job.source_open_s =

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "error.h"
+#include "message_line.h"
 #include "option_validators.h"
 #include "phantom_factory.h"
 #include "simulated_scanner.h"
@@ -85,8 +86,9 @@ void run_phantom(const PhantomArguments& args) {
     std::fprintf(
         stderr,
         "wrote %u slices of %ux%u %d-bit %s to %s\nextract with: mvox extract %s -t %g -o %s.ply\n",
-        grid.depth, grid.width, grid.height, args.bits, args.format.c_str(), args.directory.c_str(),
-        args.directory.c_str(), threshold, args.name.c_str());
+        grid.depth, grid.width, grid.height, args.bits, args.format.c_str(),
+        one_line(args.directory).c_str(), one_line(args.directory).c_str(), threshold,
+        args.name.c_str());
   }
 }
 

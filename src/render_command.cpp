@@ -8,6 +8,7 @@
 #include "error.h"
 #include "mesh_job.h"
 #include "mesh_render.h"
+#include "message_line.h"
 #include "output_file.h"
 #include "ply_reader.h"
 #include "slice_image_writer.h"
@@ -59,7 +60,8 @@ void run_render(const RenderArguments& args) {
   file.commit();
   if (!args.quiet)
     std::fprintf(stderr, "%s: %s faces of %s (%s normals), %ux%u, %s triangles drawn\n",
-                 options.image_path.c_str(), grouped(mesh.face_count()).c_str(), args.mesh.c_str(),
+                 one_line(options.image_path).c_str(), grouped(mesh.face_count()).c_str(),
+                 one_line(args.mesh).c_str(),
                  !options.smooth        ? "flat"
                  : mesh.normals.empty() ? "area-weighted"
                                         : "the file's",

@@ -6,6 +6,7 @@
 
 #include "error.h"
 #include "live_window.h"
+#include "message_line.h"
 #include "slice_image_writer.h"
 
 namespace mvox {
@@ -59,8 +60,7 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
     live_window_ = LiveWindow::open("mvox", &why_not);
     // The window only shows the run: without it the run is still worth doing.
     if (!live_window_)
-      std::fprintf(stderr, "mvox: warning: --show: %s; going on without a window\n",
-                   why_not.c_str());
+      print_message("warning", "--show: " + why_not + "; going on without a window");
   }
 }
 

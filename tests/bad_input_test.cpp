@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -227,6 +228,41 @@ TEST_F(BadInput, EmptyDirectoryNoImagesAndNoMatch) {
                  "no such file or directory");
 }
 
+// A name may hold any byte but '/' and NUL. Printed as it is, a newline would split the error
+// line in two and an escape sequence would reach the terminal: both are shown escaped.
+TEST_F(BadInput, ControlCharactersInNamesStayInOneLine) {
+  auto run = [&](const std::vector<std::string>& arguments) {
+    MvoxProcess mvox(arguments, dir_.path());
+    return mvox.finish();
+  };
+  MvoxProcess::Ending ending = run({"extract", "no\nsuch\x1b(B\t", "-t", "128", "-q"});
+  EXPECT_EQ(ending.exit_code, 1);
+  EXPECT_EQ(ending.errors, "mvox: error: no\\nsuch\\x1b(B\\x09: no such file or directory\n");
+  // A usage error quotes the value; its second line is the pointer to --help.
+  ending = run({"extract", "stack", "-t", "128", "-q", "--method", "a\nb\rc\x7f"});
+  EXPECT_EQ(ending.exit_code, 2);
+  EXPECT_EQ(first_line(ending.errors),
+            "mvox: error: --method: a\\nb\\x0dc\\x7f not in {voxels,cubes}");
+  EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 2) << ending.errors;
+  // The summary names the mesh, written under its real name.
+  ending = run({"extract", "stack", "-t", "128", "-o", "mesh\n.ply"});
+  EXPECT_EQ(ending.exit_code, 0) << ending.errors;
+  EXPECT_EQ(ending.errors.rfind("mesh\\n.ply: ", 0), 0u) << ending.errors;
+  EXPECT_TRUE(fs::exists(dir_ / "mesh\n.ply"));
+  // A warning quotes what the environment says.
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved = display != nullptr ? display : "";
+  ::setenv("DISPLAY", ":59123\n", 1);  // no server listens on display 59123
+  ending = run({"extract", "stack", "-t", "128", "--image", "picture.png", "--show", "-q"});
+  if (display != nullptr)
+    ::setenv("DISPLAY", saved.c_str(), 1);
+  else
+    ::unsetenv("DISPLAY");
+  EXPECT_EQ(ending.exit_code, 0) << ending.errors;
+  EXPECT_EQ(ending.errors.rfind("mvox: warning: --show: ", 0), 0u) << ending.errors;
+  EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 1) << ending.errors;
+}
+
 // RAW INPUT -----------------------------------------------------------------------------------
 
 TEST_F(BadInput, RawVolumeOfTheWrongSize) {
@@ -289,8 +325,7 @@ TEST_F(BadInput, UnknownOptionValuesAreUsageErrors) {
 TEST_F(BadInput, NumbersOutsideTheirRangeAreUsageErrors) {
   const std::string job = "extract stack -t 128" + kOutputs;
   for (const char* view : {"nan,0", "0,nan", "0,0,nan", "inf,0", "0,-inf"})
-    expect_refused(job + " --view " + view, "--view", "must be a number from -360 to 360, got ",
-                   2);
+    expect_refused(job + " --view " + view, "--view", "must be a number from -360 to 360, got ", 2);
   expect_refused(job + " --fov nan", "--fov", "must be a number from 1 to 170, got nan", 2);
   expect_refused(job + " --perspective --fov inf", "--fov", "from 1 to 170, got inf", 2);
   expect_refused(job + " --image-size 1e3", "--image-size", "'1e3' is not a picture size", 2);
@@ -337,8 +372,8 @@ TEST_F(BadInput, WholeNumbersAreReadInDecimal) {
   for (const auto& entry : fs::directory_iterator(dir_ / "frames"))
     frames.push_back(entry.path().filename().string());
   std::sort(frames.begin(), frames.end());
-  EXPECT_EQ(frames, (std::vector<std::string>{"frame_0010.png", "frame_0020.png",
-                                              "frame_0024.png"}));
+  EXPECT_EQ(frames,
+            (std::vector<std::string>{"frame_0010.png", "frame_0020.png", "frame_0024.png"}));
   expect_refused("demo --size 0x10" + kOutputs, "--size", "got 0x10", 2);
 }
 
