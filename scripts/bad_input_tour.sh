@@ -145,6 +145,9 @@ tour "input named with a newline" "" \
   "mvox extract \"\$(printf 'no\\nsuch')\" -t 128 $outputs"
 tour "--method value with a newline" "" \
   "mvox extract stack -t 128 --method \"\$(printf 'cubes\\nfoo')\" $outputs"
+tour "--stats of an input named with \\xff and a newline (the report, parsed)" \
+  "mkdir odd; mv stack \"odd/\$(printf 'st\\377ck\\nx')\"" \
+  "mvox extract \"odd/\$(printf 'st\\377ck\\nx')\" -t 128 -o /dev/null --stats /dev/stdout -q | python3 -c 'import json, sys; print(\"valid JSON, input:\", ascii(json.loads(sys.stdin.buffer.read().decode())[\"input\"]))'"
 tour "slice is a dangling symbolic link" \
   "rm stack/sphere_0004.png; ln -s lost.png stack/sphere_0004.png" \
   "mvox extract stack -t 128 $outputs"
