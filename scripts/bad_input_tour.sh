@@ -233,6 +233,13 @@ if [ -d "$dicom" ]; then
   tour "DICOM: a slice missing from the series" \
     "mkdir scans; cp $dicom/*.dcm scans/; rm scans/bbmri-53323419.dcm" \
     "mvox extract scans -t 300 $outputs"
+  # An entry of the series' folder that is not a file: named, not taken for "no slice images".
+  tour "DICOM: a FIFO beside the series" \
+    "mkdir scans; cp $dicom/*.dcm scans/; mkfifo scans/pipe" \
+    "mvox extract scans -t 300 $outputs"
+  tour "DICOM: a dangling link beside the series" \
+    "mkdir scans; cp $dicom/*.dcm scans/; ln -s gone.dcm scans/extra.dcm" \
+    "mvox extract scans -t 300 $outputs"
   tour "DICOM: --series that is not there" \
     "mkdir scans; cp $dicom/*.dcm scans/" \
     "mvox extract scans -t 300 --series 1.2.3 $outputs"

@@ -4,6 +4,7 @@
 #include <gdcmAttribute.h>
 #include <gdcmReader.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
@@ -911,6 +912,28 @@ TEST(DicomCli, SeriesNotesErrorsAndHelp) {
   EXPECT_NE(help.output.find("DICOM"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("--series"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("--dicom"), std::string::npos) << help.output;
+}
+
+// An entry of the series' folder that cannot be read is named, as in an image stack, rather
+// than hiding the series (the folder was then read as images and said to hold none).
+TEST(DicomCli, AFifoOrADanglingLinkBesideTheSeriesIsNamed) {
+  ScratchDirectory dir;
+  fs::create_directory(dir / "scans");
+  DicomSliceSpec spec;
+  spec.pixel_spacing = std::array<double, 2>{1, 1};
+  write_series((dir / "scans"), "a", spec, 3, {0, 0, 0}, 1);
+  ASSERT_EQ(::mkfifo((dir / "scans/pipe").c_str(), 0600), 0);
+  // Never opened: with no writer, opening the FIFO would wait forever.
+  expect_one_line_error(run_mvox("extract scans -t 100 -o x.ply", dir.path()),
+                        "mvox: error: scans/pipe: is not a regular file (a FIFO, socket or "
+                        "device), not a slice");
+  fs::remove(dir / "scans/pipe");
+  fs::create_symlink("gone.dcm", dir / "scans/a7.dcm");
+  expect_one_line_error(run_mvox("extract scans -t 100 -o x.ply", dir.path()),
+                        "mvox: error: scans/a7.dcm: is a dangling symbolic link");
+  expect_one_line_error(run_mvox("extract 'scans/*' -t 100 -o x.ply", dir.path()),
+                        "mvox: error: scans/a7.dcm: is a dangling symbolic link");
+  EXPECT_EQ(dir.listing(), "scans ");
 }
 
 // ---------------------------------------------------------------------------------------------
