@@ -220,6 +220,19 @@ tour "MetaImage: data file missing" \
 tour "MetaImage: --raw given as well" \
   "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n' > head.mha" \
   "mvox extract head.mha --raw 12x10x8:u8 -t 1 $outputs"
+# Geometry that float coordinates cannot hold, or that places no volume: named with the file.
+tour "NRRD: spacing 1e300" \
+  "printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: raw\nspacings: 1e300 1 1\n\n' > far.nrrd; head -c 960 /dev/zero >> far.nrrd" \
+  "mvox extract far.nrrd -t 1 $outputs"
+tour "NRRD: parallel space directions" \
+  "printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: raw\nspace: LPS\nspace directions: (1,0,0) (0,1,0) (0,2,0)\n\n' > flat.nrrd; head -c 960 /dev/zero >> flat.nrrd" \
+  "mvox extract flat.nrrd -t 1 $outputs"
+tour "MetaImage: singular TransformMatrix" \
+  "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nTransformMatrix = 1 0 0 0 1 0 1 1 0\nElementDataFile = LOCAL\n' > flat.mha; head -c 960 /dev/zero >> flat.mha" \
+  "mvox extract flat.mha -t 1 $outputs"
+tour "MetaImage: ElementSpacing 1e300" \
+  "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementSpacing = 1 1 1e300\nElementDataFile = LOCAL\n' > far.mha; head -c 960 /dev/zero >> far.mha" \
+  "mvox extract far.mha -t 1 $outputs"
 tour "TIFF stack: a page of another size" "python3 $work/make_tiff.py pages.tif 12x10 12x10 14x10" \
   "mvox extract pages.tif -t 10 $outputs"
 dicom=$repo/../shared/datasets/dicom_mr_bbmri_6slices

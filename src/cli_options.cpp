@@ -130,13 +130,23 @@ MeshFormat MeshChoice::format_for(const std::string& output) const {
 }
 
 MeshWriterOptions mesh_writer_options(const MeshChoice& choice, const VolumeInfo& input,
-                                      const std::string& comment) {
+                                      const std::string& input_label, const std::string& comment) {
   MeshWriterOptions options;
   options.transform = WorldTransform::of_volume(input);
   if (!choice.spacing.empty())
     for (int axis = 0; axis < 3; ++axis) options.transform.spacing[axis] = choice.spacing[axis];
   if (!choice.origin.empty())
     for (int axis = 0; axis < 3; ++axis) options.transform.origin[axis] = choice.origin[axis];
+  options.transform.check(input_label);
+  const std::string reach = options.transform.reach_problem(input.width, input.height, input.depth);
+  if (!reach.empty()) {
+    std::string options_given;
+    if (!choice.spacing.empty()) options_given = "--spacing";
+    if (!choice.origin.empty())
+      options_given += options_given.empty() ? "--origin" : " and --origin";
+    if (!options_given.empty()) throw CLI::ValidationError(options_given, reach);
+    throw Error(input_label, reach);
+  }
   options.triangulate = choice.triangulate;
   options.comments.push_back(comment);
   return options;

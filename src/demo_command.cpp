@@ -39,8 +39,8 @@ void run_demo(const DemoArguments& args) {
   job.format = format;
   job.stats_path = args.stats_path;
   job.quiet = args.quiet;
-  job.mesh =
-      mesh_writer_options(args.mesh, scanner.info(), "mvox demo: " + args.phantom + " phantom");
+  job.mesh = mesh_writer_options(args.mesh, scanner.info(), job.input_label,
+                                 "mvox demo: " + args.phantom + " phantom");
   job.picture = args.picture.options();
   if (!args.quiet)
     std::fprintf(stderr,

@@ -104,7 +104,7 @@ void run_extract(const ExtractArguments& args) {
     std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
                   args.threshold, engine_kind_name(job.engine.kind),
                   surface_rule_name(job.engine.rule));
-  job.mesh = mesh_writer_options(args.mesh, info, comment);
+  job.mesh = mesh_writer_options(args.mesh, info, job.input_label, comment);
   job.normals = args.normals;
   job.picture = args.picture.options();
   run_mesh_job(*source, job);

@@ -76,12 +76,16 @@ void WorldTransform::check(const std::string& subject) const {
         throw Error(subject, std::string("voxel axis ") + kAxisName[a] +
                                  " direction must be finite, got " + number(axes[a][i]));
   }
+  if (!axes_span_space())
+    throw Error(subject, "voxel axes are zero or coplanar, so they cannot place a mesh");
+}
+
+bool WorldTransform::axes_span_space() const {
   // The determinant relative to the axes' lengths is the volume of the parallelepiped they span
   // as a fraction of a cube's: near 0 the axes are (nearly) coplanar and the mesh would be
   // flattened.
   const double scale = length(axes[0]) * length(axes[1]) * length(axes[2]);
-  if (!(scale > 0.0) || !(std::fabs(determinant(axes)) > 1e-6 * scale))
-    throw Error(subject, "voxel axes are zero or coplanar, so they cannot place a mesh");
+  return scale > 0.0 && std::fabs(determinant(axes)) > 1e-6 * scale;
 }
 
 std::string WorldTransform::reach_problem(std::uint32_t width, std::uint32_t height,

@@ -54,6 +54,9 @@ struct WorldTransform {
   // each axis. Requires check() to pass.
   std::string reach_problem(std::uint32_t width, std::uint32_t height, std::uint32_t depth) const;
 
+  // True when the axes span space: no axis is zero and they are not (nearly) coplanar.
+  bool axes_span_space() const;
+
   bool is_axis_aligned() const;  // axes are the identity: positions only scale and shift
   // True when the transform turns right-handed into left-handed (its determinant is negative):
   // faces wound counter-clockwise seen from outside in voxel space would be clockwise in the

@@ -533,12 +533,13 @@ INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt, ::testing::Values(SIGINT, SIGTERM,
 // cancellation, src/read_cancellation.h), not wait for a writer that may never close.
 TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
-  const std::string before = dir_.listing();
   const auto previous = previous_outputs();
   std::vector<std::string> job = interrupted_job();
-  // Vertices at slice 5 and beyond lie past the float range: a writer error mid-volume.
-  for (const char* extra : {"--origin", "0,0,3.3e38", "--spacing", "1,1,2.5e36"})
-    job.push_back(extra);
+  // The frame after slice 5 cannot be written, its name being taken by a directory: an error
+  // mid-volume. (A placement past float's range, used before, is now refused before the run.)
+  ASSERT_TRUE(fs::create_directories(dir_ / "frames/frame_0005.png"));
+  for (const char* extra : {"--frames", "frames", "--every", "5"}) job.push_back(extra);
+  const std::string before = dir_.listing();
   MvoxProcess mvox(job, dir_.path());
   FifoWriter fifo(dir_ / "volume.raw");
   // Seven slices are just enough for the error (found by trying; the picture's normals keep the
@@ -549,7 +550,7 @@ TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   const MvoxProcess::Ending ending = mvox.finish();
   fifo.close();
   EXPECT_EQ(ending.exit_code, 1);
-  EXPECT_NE(ending.errors.find("mvox: error: previous.ply: vertex "), std::string::npos)
+  EXPECT_NE(ending.errors.find("mvox: error: frames/frame_0005.png: "), std::string::npos)
       << ending.errors;
   EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 1) << ending.errors;
   expect_unchanged(before, previous);

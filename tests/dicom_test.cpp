@@ -936,6 +936,31 @@ TEST(DicomCli, AFifoOrADanglingLinkBesideTheSeriesIsNamed) {
   EXPECT_EQ(dir.listing(), "scans ");
 }
 
+// A spacing or position that float coordinates cannot hold is refused naming the input, and
+// called too large (not "must be positive and finite", as 1e300 is both).
+TEST(DicomCli, SpacingOrPositionBeyondFloatIsRefusedNamingTheInput) {
+  ScratchDirectory dir;
+  DicomSliceSpec spec;
+  spec.pixel_spacing = std::array<double, 2>{1e300, 1};
+  fs::create_directory(dir / "wide");
+  write_series((dir / "wide"), "a", spec, 3, {0, 0, 0}, 1);
+  expect_one_line_error(run_mvox("extract wide -t 100 -o x.ply", dir.path()),
+                        "mvox: error: wide: spacing y is too large for float coordinates, got "
+                        "1e+300 (usable: 2.35099e-38 to 3.40282e+38)");
+  spec.pixel_spacing = std::array<double, 2>{1, 1};
+  fs::create_directory(dir / "far");
+  write_series((dir / "far"), "a", spec, 3, {0, 1e300, 0}, 1);
+  expect_one_line_error(run_mvox("extract far -t 100 --image x.png", dir.path()),
+                        "mvox: error: far: origin y is too large for float coordinates, got "
+                        "1e+300");
+  // Slices 1e300 mm apart: the spacing along the normal.
+  fs::create_directory(dir / "apart");
+  write_series((dir / "apart"), "a", spec, 3, {0, 0, -1e300}, 1e300);
+  expect_one_line_error(run_mvox("extract apart -t 100 -o x.ply", dir.path()),
+                        "mvox: error: apart: spacing z is too large for float coordinates");
+  EXPECT_EQ(dir.listing(), "apart far wide ");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Real files from ../shared/datasets
 
