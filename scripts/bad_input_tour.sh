@@ -217,6 +217,13 @@ tour "NRRD: gzip data that are not gzip" \
 tour "MetaImage: data file missing" \
   "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = nowhere.raw\n' > head.mhd" \
   "mvox extract head.mhd -t 1 $outputs"
+# A detached data file that is a FIFO: refused before open(), which would wait for a writer.
+tour "NRRD: data file is a FIFO" \
+  "mkfifo samples.raw; printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: raw\ndata file: samples.raw\n' > head.nhdr" \
+  "mvox extract head.nhdr -t 1 $outputs"
+tour "MetaImage: data file is a FIFO" \
+  "mkfifo samples.raw; printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = samples.raw\n' > head.mhd" \
+  "mvox extract head.mhd -t 1 $outputs"
 tour "MetaImage: --raw given as well" \
   "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n' > head.mha" \
   "mvox extract head.mha --raw 12x10x8:u8 -t 1 $outputs"

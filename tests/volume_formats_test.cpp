@@ -750,6 +750,32 @@ TEST(VolumeFilesCli, SpacingOrOriginBeyondFloatNamesTheFile) {
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
 }
 
+// A detached data file that is a FIFO would keep mvox waiting in open() for a writer that never
+// comes: refused before opening, naming header and data file. (timeout: a guard, so that a
+// regression fails instead of hanging the suite.)
+TEST(VolumeFilesCli, ADataFileThatIsNotARegularFileIsRefusedWithoutOpeningIt) {
+  ScratchDirectory dir;
+  ASSERT_EQ(::mkfifo((dir / "samples.raw").c_str(), 0600), 0);
+  write_file(dir / "volume.nhdr",
+             "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: "
+             "samples.raw\n");
+  write_file(
+      dir / "volume.mhd",
+      "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementDataFile = samples.raw\n");
+  write_file(dir / "device.mhd",
+             "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementDataFile = /dev/zero\n");
+  for (const char* header : {"volume.nhdr", "volume.mhd"}) {
+    expect_one_line_error(
+        run_mvox(std::string("extract ") + header + " -t 100 -o out.ply", dir.path(), "timeout 30"),
+        std::string("mvox: error: ") + header +
+            ": data file samples.raw is a FIFO, not a regular file");
+  }
+  expect_one_line_error(run_mvox("extract device.mhd -t 100 -o out.ply", dir.path(), "timeout 30"),
+                        "mvox: error: device.mhd: data file /dev/zero is a device, not a regular "
+                        "file");
+  EXPECT_EQ(dir.listing(), "device.mhd samples.raw volume.mhd volume.nhdr ");
+}
+
 // ---------------------------------------------------------------------------------------------
 // The shared datasets, when ../shared/datasets is present (never in the repository)
 
