@@ -197,6 +197,10 @@ tour "output directory missing" "" "mvox extract stack -t 128 -o no/such/dir/mes
 tour "output under a regular file" "echo text > file.txt" \
   "mvox extract stack -t 128 -o file.txt/mesh.ply"
 tour "output in /proc" "" "mvox extract stack -t 128 -o /proc/mesh.ply"
+# A display that accepts connections and never answers (a socket nobody reads): --show warns
+# after 3 s and the run goes on, writing its picture.
+tour "--show with a display that never answers" "" \
+  "python3 -c 'import socket, time; s = socket.socket(socket.AF_UNIX); s.bind(\"\\0/tmp/.X11-unix/X59321\"); s.listen(8); time.sleep(6)' > /dev/null 2>&1 & sleep 0.5; DISPLAY=:59321 mvox extract stack -t 128 --image shown.png --show -q"
 tour "full disk: mesh" "" "mvox extract stack -t 128 -o /dev/full --image previous.png -q"
 tour "full disk: picture" "ln -s /dev/full full.png" \
   "mvox extract stack -t 128 -o previous.ply --image full.png -q"

@@ -1,8 +1,14 @@
 // Pictures from the command line: mvox extract --image/--frames, mvox demo's demo.png, mvox
 // render, PLY normals, and their errors.
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstddef>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -12,6 +18,7 @@
 #include <vector>
 
 #include "command_runner.h"
+#include "mvox_process.h"
 #include "ply_reader.h"
 
 namespace mvox {
@@ -142,6 +149,43 @@ TEST(PictureCli, ShowWithoutADisplayWarnsAndStillWritesThePicture) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_EQ(result.output.rfind("mvox: warning: --show: no display", 0), 0u) << result.output;
   EXPECT_EQ(dir.listing(), "demo.ply demo.png ");
+}
+
+// A display that accepts the connection and never answers: Qt would wait for it for ever.
+// mvox asks it first, gives up after kDisplayAnswerTimeout, warns and goes on. (MvoxProcess
+// fails the test after 60 s: a guard, not a timing.)
+TEST(PictureCli, ShowWithADisplayThatNeverAnswersWarnsAndGoesOn) {
+  // An abstract socket, listening and never accepting: the kernel completes the connection.
+  const std::string number = std::to_string(50000 + getpid() % 9000);
+  const std::string path = "/tmp/.X11-unix/X" + number;
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path + 1, path.data(), path.size());
+  const int server = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  ASSERT_EQ(::bind(server, reinterpret_cast<const sockaddr*>(&address),
+                   static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + 1 + path.size())),
+            0);
+  ASSERT_EQ(::listen(server, 8), 0);
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved_display = display != nullptr ? display : "";
+  ::setenv("DISPLAY", (":" + number).c_str(), 1);
+  ::unsetenv("QT_QPA_PLATFORM");
+
+  ScratchDirectory dir;
+  make_torus_stack(dir);
+  test::MvoxProcess mvox({"extract", "stack", "-t", "128", "--image", "torus.png", "--show", "-q"},
+                         dir.path());
+  const test::MvoxProcess::Ending ending = mvox.finish();
+  ::close(server);
+  if (display != nullptr)
+    ::setenv("DISPLAY", saved_display.c_str(), 1);
+  else
+    ::unsetenv("DISPLAY");
+  EXPECT_EQ(ending.exit_code, 0);
+  EXPECT_EQ(ending.errors, "mvox: warning: --show: the X display \":" + number +
+                               "\" accepted a connection but did not answer within 3 s; going "
+                               "on without a window\n");
+  EXPECT_GT(cv::countNonZero(read_gray(dir / "torus.png")), 100);
 }
 
 TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
