@@ -190,6 +190,20 @@ tour "--spacing 0" "" "mvox extract stack -t 128 --spacing 0,1,1 $outputs"
 tour "--spacing past float's range" "" "mvox extract stack -t 128 --spacing 1,1,1e300 $outputs"
 tour "--every with an exponent" "" "mvox extract stack -t 128 --every 1e3 --frames f $outputs"
 tour "phantom --seed -1" "" "mvox phantom sphere -o more --seed -1 -q"
+# Coordinates at the ends of float's range: pictures are drawn in the box's own frame (they
+# were black), and a mesh whose floats would underflow is refused with the usable range.
+tour "--spacing 1e-37 (the picture, drawn)" "" \
+  "mvox extract stack -t 128 --spacing 1e-37,1e-37,1e-37 --image tiny.png --stats /dev/stdout -q | python3 -c 'import json, sys; print(\"triangles drawn:\", json.load(sys.stdin)[\"render\"][\"triangles_drawn\"])'"
+tour "--spacing 1e-46 (the mesh's floats would be 0)" "" \
+  "mvox extract stack -t 128 --spacing 1e-46,1e-46,1e-46 $outputs"
+cube_ply="ply\\nformat ascii 1.0\\nelement vertex 8\\nproperty float x\\nproperty float y\\nproperty float z\\nelement face 6\\nproperty list uchar int vertex_indices\\nend_header\\n"
+cube_faces="4 0 2 3 1\\n4 4 5 7 6\\n4 0 1 5 4\\n4 2 6 7 3\\n4 0 4 6 2\\n4 1 3 7 5\\n"
+for ends in "-3e38 3e38" "0 1.1e-44"; do
+  set -- $ends
+  tour "render a cube from $1 to $2" \
+    "{ printf '$cube_ply'; for c in 0 1 2 3 4 5 6 7; do echo \$(( c & 1 ? 1 : 0 )) \$(( c & 2 ? 1 : 0 )) \$(( c & 4 ? 1 : 0 )) | sed 's/0/$1/g; s/1/$2/g'; done; printf '$cube_faces'; } > cube.ply" \
+    "mvox render cube.ply -o cube.png --view 30,20"
+done
 tour "threshold above u8" "" "mvox extract stack -t 300 $outputs"
 tour "threshold at u8's minimum" "" "mvox extract stack -t 0 $outputs"
 tour "no threshold" "" "mvox extract stack $outputs"
