@@ -13,6 +13,8 @@ set -uo pipefail
 
 repo=$(cd "$(dirname "$0")/.." && pwd)
 mvox_binary=${MVOX:-$repo/build/src/mvox}
+# Each case runs in a directory of its own: a relative $MVOX is made absolute first.
+case $mvox_binary in /*) ;; *) mvox_binary=$PWD/$mvox_binary ;; esac
 if [ ! -x "$mvox_binary" ]; then
   echo "bad_input_tour.sh: $mvox_binary is not built; run: cmake --build build --target mvox" >&2
   exit 1
@@ -172,6 +174,14 @@ echo "| case | command | exit | error line | files left | peak memory |"
 echo "|---|---|---|---|---|---|"
 tour "missing slice file" "" \
   "mvox extract stack/sphere_0000.png stack/sphere_0001.png stack/sphere_0009.png -t 128 $outputs"
+# Names holding control characters: printed escaped, so the error stays one line.
+tour "input named with a newline" "" \
+  "mvox extract \"\$(printf 'no\\nsuch')\" -t 128 $outputs"
+tour "--method value with a newline" "" \
+  "mvox extract stack -t 128 --method \"\$(printf 'cubes\\nfoo')\" $outputs"
+tour "--stats of an input named with \\xff and a newline (the report, parsed)" \
+  "mkdir odd; mv stack \"odd/\$(printf 'st\\377ck\\nx')\"" \
+  "mvox extract \"odd/\$(printf 'st\\377ck\\nx')\" -t 128 -o /dev/null --stats /dev/stdout -q | python3 -c 'import json, sys; print(\"valid JSON, input:\", ascii(json.loads(sys.stdin.buffer.read().decode())[\"input\"]))'"
 tour "slice is a dangling symbolic link" \
   "rm stack/sphere_0004.png; ln -s lost.png stack/sphere_0004.png" \
   "mvox extract stack -t 128 $outputs"
@@ -205,6 +215,29 @@ tour "unknown --method" "" "mvox extract stack -t 128 --method foo $outputs"
 tour "unknown --surface" "" "mvox extract stack -t 128 --surface foo $outputs"
 tour "unknown --raw type" "" "mvox extract stack --raw 12x10:u7 -t 128 $outputs"
 tour "bad --image-size" "" "mvox extract stack -t 128 --image-size 0x0 $outputs"
+# Numbers that are not what they seem (NaN passes a range check, sscanf and strtoull wrap).
+tour "--view NaN" "" "mvox extract stack -t 128 --view nan,0 $outputs"
+tour "--fov NaN" "" "mvox extract stack -t 128 --perspective --fov nan $outputs"
+tour "--image-size with an exponent" "" "mvox extract stack -t 128 --image-size 1e3 $outputs"
+tour "--image-size past 32 bits" "" "mvox extract stack -t 128 --image-size 4294967808 $outputs"
+tour "--spacing 0" "" "mvox extract stack -t 128 --spacing 0,1,1 $outputs"
+tour "--spacing past float's range" "" "mvox extract stack -t 128 --spacing 1,1,1e300 $outputs"
+tour "--every with an exponent" "" "mvox extract stack -t 128 --every 1e3 --frames f $outputs"
+tour "phantom --seed -1" "" "mvox phantom sphere -o more --seed -1 -q"
+# Coordinates at the ends of float's range: pictures are drawn in the box's own frame (they
+# were black), and a mesh whose floats would underflow is refused with the usable range.
+tour "--spacing 1e-37 (the picture, drawn)" "" \
+  "mvox extract stack -t 128 --spacing 1e-37,1e-37,1e-37 --image tiny.png --stats /dev/stdout -q | python3 -c 'import json, sys; print(\"triangles drawn:\", json.load(sys.stdin)[\"render\"][\"triangles_drawn\"])'"
+tour "--spacing 1e-46 (the mesh's floats would be 0)" "" \
+  "mvox extract stack -t 128 --spacing 1e-46,1e-46,1e-46 $outputs"
+cube_ply="ply\\nformat ascii 1.0\\nelement vertex 8\\nproperty float x\\nproperty float y\\nproperty float z\\nelement face 6\\nproperty list uchar int vertex_indices\\nend_header\\n"
+cube_faces="4 0 2 3 1\\n4 4 5 7 6\\n4 0 1 5 4\\n4 2 6 7 3\\n4 0 4 6 2\\n4 1 3 7 5\\n"
+for ends in "-3e38 3e38" "0 1.1e-44"; do
+  set -- $ends
+  tour "render a cube from $1 to $2" \
+    "{ printf '$cube_ply'; for c in 0 1 2 3 4 5 6 7; do echo \$(( c & 1 ? 1 : 0 )) \$(( c & 2 ? 1 : 0 )) \$(( c & 4 ? 1 : 0 )) | sed 's/0/$1/g; s/1/$2/g'; done; printf '$cube_faces'; } > cube.ply" \
+    "mvox render cube.ply -o cube.png --view 30,20"
+done
 tour "threshold above u8" "" "mvox extract stack -t 300 $outputs"
 tour "threshold at u8's minimum" "" "mvox extract stack -t 0 $outputs"
 tour "no threshold" "" "mvox extract stack $outputs"
@@ -212,6 +245,10 @@ tour "output directory missing" "" "mvox extract stack -t 128 -o no/such/dir/mes
 tour "output under a regular file" "echo text > file.txt" \
   "mvox extract stack -t 128 -o file.txt/mesh.ply"
 tour "output in /proc" "" "mvox extract stack -t 128 -o /proc/mesh.ply"
+# A display that accepts connections and never answers (a socket nobody reads): --show warns
+# after 3 s and the run goes on, writing its picture.
+tour "--show with a display that never answers" "" \
+  "python3 -c 'import socket, time; s = socket.socket(socket.AF_UNIX); s.bind(\"\\0/tmp/.X11-unix/X59321\"); s.listen(8); time.sleep(6)' > /dev/null 2>&1 & sleep 0.5; DISPLAY=:59321 mvox extract stack -t 128 --image shown.png --show -q"
 tour "full disk: mesh" "" "mvox extract stack -t 128 -o /dev/full --image previous.png -q"
 tour "full disk: picture" "ln -s /dev/full full.png" \
   "mvox extract stack -t 128 -o previous.ply --image full.png -q"
@@ -262,9 +299,29 @@ tour "NRRD: gzip data that are not gzip" \
 tour "MetaImage: data file missing" \
   "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = nowhere.raw\n' > head.mhd" \
   "mvox extract head.mhd -t 1 $outputs"
+# A detached data file that is a FIFO: refused before open(), which would wait for a writer.
+tour "NRRD: data file is a FIFO" \
+  "mkfifo samples.raw; printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: raw\ndata file: samples.raw\n' > head.nhdr" \
+  "mvox extract head.nhdr -t 1 $outputs"
+tour "MetaImage: data file is a FIFO" \
+  "mkfifo samples.raw; printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = samples.raw\n' > head.mhd" \
+  "mvox extract head.mhd -t 1 $outputs"
 tour "MetaImage: --raw given as well" \
   "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n' > head.mha" \
   "mvox extract head.mha --raw 12x10x8:u8 -t 1 $outputs"
+# Geometry that float coordinates cannot hold, or that places no volume: named with the file.
+tour "NRRD: spacing 1e300" \
+  "printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: raw\nspacings: 1e300 1 1\n\n' > far.nrrd; head -c 960 /dev/zero >> far.nrrd" \
+  "mvox extract far.nrrd -t 1 $outputs"
+tour "NRRD: parallel space directions" \
+  "printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: raw\nspace: LPS\nspace directions: (1,0,0) (0,1,0) (0,2,0)\n\n' > flat.nrrd; head -c 960 /dev/zero >> flat.nrrd" \
+  "mvox extract flat.nrrd -t 1 $outputs"
+tour "MetaImage: singular TransformMatrix" \
+  "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nTransformMatrix = 1 0 0 0 1 0 1 1 0\nElementDataFile = LOCAL\n' > flat.mha; head -c 960 /dev/zero >> flat.mha" \
+  "mvox extract flat.mha -t 1 $outputs"
+tour "MetaImage: ElementSpacing 1e300" \
+  "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementSpacing = 1 1 1e300\nElementDataFile = LOCAL\n' > far.mha; head -c 960 /dev/zero >> far.mha" \
+  "mvox extract far.mha -t 1 $outputs"
 # Headers that lie, and runs larger than the memory they may take: refused from the header.
 tour "gzip NRRD: 23 bytes declaring a 65536x65536 slice" \
   "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 65536 65536 1\nencoding: gzip\n\n'; head -c 10 /dev/zero | gzip -c; } > big.nrrd" \
@@ -329,6 +386,13 @@ if [ -d "$dicom" ]; then
     "mvox extract scans -t 300 $outputs"
   tour "DICOM: a slice missing from the series" \
     "mkdir scans; cp $dicom/*.dcm scans/; rm scans/bbmri-53323419.dcm" \
+    "mvox extract scans -t 300 $outputs"
+  # An entry of the series' folder that is not a file: named, not taken for "no slice images".
+  tour "DICOM: a FIFO beside the series" \
+    "mkdir scans; cp $dicom/*.dcm scans/; mkfifo scans/pipe" \
+    "mvox extract scans -t 300 $outputs"
+  tour "DICOM: a dangling link beside the series" \
+    "mkdir scans; cp $dicom/*.dcm scans/; ln -s gone.dcm scans/extra.dcm" \
     "mvox extract scans -t 300 $outputs"
   tour "DICOM: --series that is not there" \
     "mkdir scans; cp $dicom/*.dcm scans/" \

@@ -1,8 +1,5 @@
 #include "cli_options.h"
 
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <system_error>
@@ -20,13 +17,20 @@ bool is_existing_non_regular_file(const std::string& path) {
          !std::filesystem::is_directory(status);
 }
 
-// "WxH" or "N" (NxN), 1 to kMaxImageSide per side.
+// "WxH" or "N" (NxN), decimal digits only, 1 to kMaxImageSide per side. Strict: sscanf's %u
+// would read "1e3" as 1, skip blanks and signs, and wrap "4294967808" around to 512.
 bool parse_picture_size(const std::string& text, unsigned* width, unsigned* height) {
-  char extra = 0;
-  const int fields = std::sscanf(text.c_str(), "%ux%u%c", width, height, &extra);
-  if (fields == 1 && text.find('x') == std::string::npos) *height = *width;
-  return (fields == 2 || (fields == 1 && *height == *width)) && *width >= 1 && *height >= 1 &&
-         *width <= kMaxImageSide && *height <= kMaxImageSide;
+  const std::size_t x = text.find('x');
+  std::uint64_t w = 0, h = 0;
+  if (!parse_whole_number(text.substr(0, x), kMaxImageSide, &w)) return false;
+  if (x == std::string::npos)
+    h = w;
+  else if (!parse_whole_number(text.substr(x + 1), kMaxImageSide, &h))
+    return false;
+  if (w == 0 || h == 0) return false;
+  *width = static_cast<unsigned>(w);
+  *height = static_cast<unsigned>(h);
+  return true;
 }
 
 std::string picture_size_problem(const std::string& text) {
@@ -35,18 +39,6 @@ std::string picture_size_problem(const std::string& text) {
 }
 
 }  // namespace
-
-CLI::Validator finite_number() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0') return "'" + text + "' is not a number";
-        if (!std::isfinite(value)) return "'" + text + "' is not a finite number";
-        return {};
-      },
-      "NUMBER");
-}
 
 void add_engine_options(CLI::App& command, EngineChoice& choice) {
   command
@@ -100,14 +92,14 @@ void add_mesh_options(CLI::App& command, MeshChoice& choice) {
           "Voxel size along x,y,z, e.g. 1,1,2 for CThead (default: from the input, else 1,1,1)")
       ->delimiter(',')
       ->expected(3)
-      ->check(CLI::PositiveNumber);
+      ->check(spacing_number());
   command
       .add_option("--origin", choice.origin,
                   "Position of voxel (0,0,0) along x,y,z, in the units of the spacing (default: "
                   "from the input, else 0,0,0)")
       ->delimiter(',')
       ->expected(3)
-      ->check(finite_number());
+      ->check(origin_number());
 }
 
 MeshFormat MeshChoice::format_for(const std::string& output) const {
@@ -140,13 +132,23 @@ MeshFormat MeshChoice::format_for(const std::string& output) const {
 }
 
 MeshWriterOptions mesh_writer_options(const MeshChoice& choice, const VolumeInfo& input,
-                                      const std::string& comment) {
+                                      const std::string& input_label, const std::string& comment) {
   MeshWriterOptions options;
   options.transform = WorldTransform::of_volume(input);
   if (!choice.spacing.empty())
     for (int axis = 0; axis < 3; ++axis) options.transform.spacing[axis] = choice.spacing[axis];
   if (!choice.origin.empty())
     for (int axis = 0; axis < 3; ++axis) options.transform.origin[axis] = choice.origin[axis];
+  options.transform.check(input_label);
+  const std::string reach = options.transform.reach_problem(input.width, input.height, input.depth);
+  if (!reach.empty()) {
+    std::string options_given;
+    if (!choice.spacing.empty()) options_given = "--spacing";
+    if (!choice.origin.empty())
+      options_given += options_given.empty() ? "--origin" : " and --origin";
+    if (!options_given.empty()) throw CLI::ValidationError(options_given, reach);
+    throw Error(input_label, reach);
+  }
   options.triangulate = choice.triangulate;
   options.comments.push_back(comment);
   return options;
@@ -174,11 +176,11 @@ void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse us
                   "turns the camera towards +x, elevation lifts it, roll turns the picture")
       ->delimiter(',')
       ->expected(2, 3)
-      ->check(CLI::Range(-360.0f, 360.0f));
+      ->check(number_from(-360, 360));
   command.add_flag("--perspective", choice.perspective,
                    "Perspective projection (default: orthographic, the volume fitted)");
   command.add_option("--fov", choice.field_of_view_deg, "Perspective field of view in degrees")
-      ->check(CLI::Range(1.0f, 170.0f))
+      ->check(number_from(1, 170))
       ->capture_default_str();
   command.add_flag("--flat", choice.flat,
                    "Shade each polygon flat instead of with smooth gradient normals");
@@ -187,7 +189,7 @@ void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse us
                      "Also write the picture so far into this directory every --every slices "
                      "(frame_0010.png, ...; created if missing)");
   command.add_option("--every", choice.every, "Slices between frames")
-      ->check(CLI::Range(1u, 1u << 30))
+      ->transform(whole_number_from(1, 1u << 30))
       ->capture_default_str();
   command.add_flag("--show", choice.show, "Show the picture growing in a window (needs a display)");
 }

@@ -8,6 +8,7 @@
 #include "mesh_format.h"
 #include "mesh_writer.h"
 #include "mvox/engine.h"
+#include "option_validators.h"
 #include "surface_picture.h"
 
 namespace mvox {
@@ -18,9 +19,6 @@ struct EngineChoice {
   std::string surface = "merge-rules";
   EngineOptions options() const;
 };
-
-// Accepts a finite number (refuses nan and inf), for thresholds.
-CLI::Validator finite_number();
 
 // --method, --engine, --surface.
 void add_engine_options(CLI::App& command, EngineChoice& choice);
@@ -43,9 +41,14 @@ struct MeshChoice {
 void add_mesh_options(CLI::App& command, MeshChoice& choice);
 
 // The mesh writer options for a run: the input's placement (spacing, origin, axes) unless
-// --spacing or --origin was given, --triangulate, and `comment`.
+// --spacing or --origin was given, --triangulate, and `comment`. The placement is checked now,
+// for pictures too, since the mesh and the report give it in float: a value out of range
+// (WorldTransform::check) is an mvox::Error naming `input_label`, the options' own values having
+// been checked when parsed; a volume whose vertices would pass float's range
+// (WorldTransform::reach_problem) is a usage error naming --spacing and --origin when either
+// was given, else an mvox::Error naming `input_label`.
 MeshWriterOptions mesh_writer_options(const MeshChoice& choice, const VolumeInfo& input,
-                                      const std::string& comment);
+                                      const std::string& input_label, const std::string& comment);
 
 // The picture options: --image, --size, --view, --perspective, --fov, --flat, and for
 // extraction also --frames, --every and --show.

@@ -39,8 +39,8 @@ void run_demo(const DemoArguments& args) {
   job.format = format;
   job.stats_path = args.stats_path;
   job.quiet = args.quiet;
-  job.mesh =
-      mesh_writer_options(args.mesh, scanner.info(), "mvox demo: " + args.phantom + " phantom");
+  job.mesh = mesh_writer_options(args.mesh, scanner.info(), job.input_label,
+                                 "mvox demo: " + args.phantom + " phantom");
   job.picture = args.picture.options();
   if (!args.quiet)
     std::fprintf(stderr,
@@ -63,7 +63,7 @@ void add_demo_command(CLI::App& app) {
       ->check(CLI::IsMember(sim::phantom_names()))
       ->capture_default_str();
   command->add_option("--size", args->size, "Voxels along each axis")
-      ->check(CLI::Range(2u, 4096u))
+      ->transform(whole_number_from(2, 4096))
       ->capture_default_str();
   command->add_option("-o,--output", args->output, "Output mesh: .ply, .stl or .obj")
       ->capture_default_str();

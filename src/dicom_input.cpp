@@ -9,7 +9,10 @@ namespace mvox {
 bool is_dicom_input(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
   try {
-    files = list_input_files(inputs, InputKind::raw_files);
+    // A FIFO or a dangling link among the files must not hide the series: with it refused here,
+    // the folder would be read as images and called empty of slices. open_dicom_input's own
+    // listing refuses it, naming it.
+    files = list_input_files(inputs, InputKind::raw_files, BadEntries::skip);
   } catch (const Error&) {
     return false;
   }

@@ -18,8 +18,9 @@ struct DicomChoice {
 
 // True when INPUT is DICOM without being told: some file it names (a directory contributes its
 // regular, non-hidden files) has no slice image extension and either the "DICM" preamble or a
-// .dcm/.dicom name. Images (PNG previews beside the series) are never opened for this. False,
-// without an error, when the inputs cannot be listed: the image reader reports that.
+// .dcm/.dicom name. Images (PNG previews beside the series) are never opened for this. Entries
+// that cannot be read (a FIFO, a dangling link) are passed over here; open_dicom_input refuses
+// them. False, without an error, when the inputs cannot be listed: the image reader reports that.
 bool is_dicom_input(const std::vector<std::string>& inputs);
 
 // A DicomSeriesSource over every file INPUT names (list_input_files with InputKind::raw_files,

@@ -10,6 +10,7 @@
 #include "input_files.h"
 #include "memory_plan.h"
 #include "mesh_job.h"
+#include "message_line.h"
 #include "raw_format.h"
 #include "slice_source_factory.h"
 #include "termination.h"
@@ -88,7 +89,7 @@ void run_extract(const ExtractArguments& args) {
   std::unique_ptr<SliceSource>& source = input.source;
   const VolumeInfo& info = source->info();
   check_threshold_range(inputs_label(args.inputs), info.type, args.threshold);
-  for (const std::string& line : notes) std::fprintf(stderr, "mvox: note: %s\n", line.c_str());
+  for (const std::string& line : notes) print_message("note", line);
 
   MeshJob job;
   job.source_open_s =
@@ -108,7 +109,7 @@ void run_extract(const ExtractArguments& args) {
     std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
                   args.threshold, engine_kind_name(job.engine.kind),
                   surface_rule_name(job.engine.rule));
-  job.mesh = mesh_writer_options(args.mesh, info, comment);
+  job.mesh = mesh_writer_options(args.mesh, info, job.input_label, comment);
   job.normals = args.normals;
   job.picture = args.picture.options();
   if (args.max_memory.empty()) {

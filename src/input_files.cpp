@@ -56,7 +56,8 @@ std::string not_a_slice_problem(const fs::path& path, InputKind kind) {
 }
 
 // Appends the slice files of `directory` to `files`.
-void add_directory(const std::string& directory, InputKind kind, std::vector<std::string>& files) {
+void add_directory(const std::string& directory, InputKind kind, BadEntries bad_entries,
+                   std::vector<std::string>& files) {
   std::size_t visible_files = 0;
   std::size_t slice_files = 0;
   std::error_code error;
@@ -72,7 +73,8 @@ void add_directory(const std::string& directory, InputKind kind, std::vector<std
     if (!entry->is_regular_file(type_error)) {
       const std::string problem =
           named_as_slice ? not_a_slice_problem(entry->path(), kind) : std::string();
-      if (!problem.empty()) throw Error(entry->path().string(), problem);
+      if (!problem.empty() && bad_entries == BadEntries::refuse)
+        throw Error(entry->path().string(), problem);
       continue;
     }
     ++visible_files;
@@ -90,7 +92,8 @@ void add_directory(const std::string& directory, InputKind kind, std::vector<std
 }
 
 // Appends the regular files matching `pattern` to `files`.
-void add_glob(const std::string& pattern, InputKind kind, std::vector<std::string>& files) {
+void add_glob(const std::string& pattern, InputKind kind, BadEntries bad_entries,
+              std::vector<std::string>& files) {
   glob_t matches{};
   const int result = glob(pattern.c_str(), 0, nullptr, &matches);
   std::vector<std::string> matched;
@@ -99,7 +102,7 @@ void add_glob(const std::string& pattern, InputKind kind, std::vector<std::strin
   std::size_t added = 0;
   for (const std::string& match : matched) {
     const std::string problem = not_a_slice_problem(match, kind);
-    if (!problem.empty()) throw Error(match, problem);
+    if (!problem.empty() && bad_entries == BadEntries::refuse) throw Error(match, problem);
     std::error_code error;
     if (!fs::is_regular_file(match, error)) continue;  // a directory
     files.push_back(match);
@@ -120,7 +123,8 @@ bool has_slice_image_extension(const std::string& path) {
                      [&](const char* known) { return bare == known; });
 }
 
-std::vector<std::string> list_input_files(const std::vector<std::string>& inputs, InputKind kind) {
+std::vector<std::string> list_input_files(const std::vector<std::string>& inputs, InputKind kind,
+                                          BadEntries bad_entries) {
   if (inputs.empty()) throw Error("INPUT", "no input files or directories given");
   std::vector<std::string> files;
   for (const std::string& input : inputs) {
@@ -128,11 +132,11 @@ std::vector<std::string> list_input_files(const std::vector<std::string>& inputs
     const fs::file_status status = fs::status(input, error);
     if (error && status.type() != fs::file_type::not_found) throw Error(input, error.message());
     if (fs::is_directory(status)) {
-      add_directory(input, kind, files);
+      add_directory(input, kind, bad_entries, files);
     } else if (fs::exists(status)) {
       files.push_back(input);
     } else if (is_glob_pattern(input)) {
-      add_glob(input, kind, files);
+      add_glob(input, kind, bad_entries, files);
     } else {
       throw Error(input, "no such file or directory");
     }

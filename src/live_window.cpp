@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 
+#include "display_probe.h"
 #include "live_window/live_window_module.h"
 
 namespace mvox {
@@ -111,7 +112,10 @@ std::unique_ptr<LiveWindow> LiveWindow::open(const std::string& title, std::stri
     reason = "a live window is already open";
   } else {
 #ifdef MVOX_HAVE_LIVE_WINDOW
-    if (load_module(&reason)) {
+    // The display is asked first, with a time limit: Qt, inside the module, would end the
+    // process on a display it cannot reach and wait for ever on one that never replies.
+    reason = display_problem();
+    if (reason.empty() && load_module(&reason)) {
       char error[512] = "";
       if (g_module.open(title.c_str(), error, sizeof error) == 0) {
         g_window_open = true;

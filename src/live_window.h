@@ -25,7 +25,9 @@ class LiveWindow {
   //   - there is no display: neither DISPLAY nor WAYLAND_DISPLAY is set;
   //   - mvox was built without OpenCV highgui (the module does not exist);
   //   - the module cannot be loaded (for instance highgui is not installed where mvox runs);
-  //   - the window cannot be opened (for instance DISPLAY names a server that does not answer);
+  //   - the display does not answer within kDisplayAnswerTimeout (display_probe.h): no server
+  //     there, or one that accepts the connection and stays silent;
+  //   - the window cannot be opened;
   //   - another LiveWindow is still open.
   static std::unique_ptr<LiveWindow> open(const std::string& title, std::string* why_not);
 

@@ -8,10 +8,11 @@
 #include <new>
 #include <stdexcept>
 
-#include "commands.h"
 #include "allocation_failure.h"
+#include "commands.h"
 #include "error.h"
 #include "memory_plan.h"
+#include "message_line.h"
 #include "standard_descriptors.h"
 #include "termination.h"
 
@@ -20,7 +21,7 @@ namespace {
 // A failed job: one line, unless it failed because the reader of an output pipe went away.
 int job_failure(const std::exception& e, int exit_code) {
   if (mvox::broken_pipe_noted()) mvox::exit_for_broken_pipe();
-  std::fprintf(stderr, "mvox: error: %s\n", e.what());
+  mvox::print_message("error", e.what());
   return exit_code;
 }
 
@@ -57,12 +58,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "mvox: error: %s\nRun 'mvox --help' or 'mvox COMMAND --help' for usage.\n",
-                 e.what());
+    // The message quotes the option's value, which may hold a newline like anything typed.
+    mvox::print_message("error", e.what());
+    std::fputs("Run 'mvox --help' or 'mvox COMMAND --help' for usage.\n", stderr);
     return 2;
   } catch (const mvox::UsageError& e) {
-    std::fprintf(stderr, "mvox: error: %s\nRun 'mvox --help' or 'mvox COMMAND --help' for usage.\n",
-                 e.what());
+    mvox::print_message("error", e.what());
+    std::fputs("Run 'mvox --help' or 'mvox COMMAND --help' for usage.\n", stderr);
     return 2;
   } catch (const mvox::Error& e) {
     return job_failure(e, 1);

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "error.h"
+#include "message_line.h"
 #include "normal_window.h"
 #include "output_file.h"
 #include "output_targets.h"
@@ -44,7 +45,7 @@ void print_summary(const RunReport& r) {
   const PhaseTimes& t = r.result.times;
   const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
   const double mebibyte = 1 << 20;
-  const std::string& named = r.output.empty() ? r.image : r.output;
+  const std::string named = one_line(r.output.empty() ? r.image : r.output);
   if (r.method == "cubes") {
     std::fprintf(stderr, "%s: %s vertices, %s triangles (marching cubes)", named.c_str(),
                  grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
@@ -76,7 +77,7 @@ void print_summary(const RunReport& r) {
     std::fprintf(stderr,
                  "  picture %s: %s triangles drawn, %s hidden or between pixels, %s facing "
                  "away\n",
-                 r.image.c_str(), grouped(r.render.triangles_drawn).c_str(),
+                 one_line(r.image).c_str(), grouped(r.render.triangles_drawn).c_str(),
                  grouped(r.render.triangles_hidden).c_str(),
                  grouped(r.render.triangles_culled).c_str());
 }

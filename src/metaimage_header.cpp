@@ -8,6 +8,7 @@
 
 #include "error.h"
 #include "header_text.h"
+#include "world_transform.h"
 
 namespace mvox {
 namespace {
@@ -275,6 +276,10 @@ void Parser::read_geometry() {
   }
   if (dimension_ == 2 && !complete_third_axis(info)) {
     fail("TransformMatrix", "the two axes are parallel");
+  }
+  if (dimension_ == 3 && !WorldTransform::of_volume(info).axes_span_space()) {
+    fail("TransformMatrix",
+         "is singular: its axes are parallel or coplanar, so they cannot place a volume");
   }
   if (find("Offset")) {
     const std::vector<double> offset = read_reals("Offset", dimension_);

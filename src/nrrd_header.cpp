@@ -8,6 +8,7 @@
 
 #include "error.h"
 #include "header_text.h"
+#include "world_transform.h"
 
 namespace mvox {
 namespace {
@@ -440,6 +441,10 @@ void Parser::read_geometry() {
     if (dimension_ == 2 && !complete_third_axis(info)) {
       fail_field("space directions", "the two axes are parallel");
     }
+    if (dimension_ == 3 && !WorldTransform::of_volume(info).axes_span_space()) {
+      fail_field("space directions",
+                 "the three axes are parallel or coplanar, so they cannot place a volume");
+    }
   } else if (spacings) {
     const std::vector<std::string_view> words = per_axis_words("spacings");
     for (std::size_t axis = 0; axis < dimension_; ++axis) {
@@ -452,7 +457,10 @@ void Parser::read_geometry() {
       // A negative spacing runs the axis backwards: keep the spacing a size, turn the axis.
       double vector[3] = {0, 0, 0};
       vector[axis] = spacing;
-      set_axis_from_vector(info, static_cast<int>(axis), vector);
+      if (!set_axis_from_vector(info, static_cast<int>(axis), vector)) {
+        fail_field("spacings", "spacing " + quoted(words[axis]) + " of axis " +
+                                   std::to_string(axis) + " is not a non-zero finite number");
+      }
     }
   }
 

@@ -6,10 +6,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <regex>
 
 #include "commands.h"
 #include "error.h"
+#include "message_line.h"
+#include "option_validators.h"
 #include "phantom_factory.h"
 #include "simulated_scanner.h"
 #include "slice_image_writer.h"
@@ -90,8 +93,9 @@ void run_phantom(const PhantomArguments& args) {
     std::fprintf(
         stderr,
         "wrote %u slices of %ux%u %d-bit %s to %s\nextract with: mvox extract %s -t %g -o %s.ply\n",
-        grid.depth, grid.width, grid.height, args.bits, args.format.c_str(), args.directory.c_str(),
-        args.directory.c_str(), threshold, args.name.c_str());
+        grid.depth, grid.width, grid.height, args.bits, args.format.c_str(),
+        one_line(args.directory).c_str(), one_line(args.directory).c_str(), threshold,
+        args.name.c_str());
   }
 }
 
@@ -112,7 +116,9 @@ void add_phantom_command(CLI::App& app) {
   command->add_option("--format", args->format, "Image format")
       ->check(CLI::IsMember({"png", "tif", "pgm"}))
       ->capture_default_str();
-  command->add_option("--seed", args->seed, "Seed for the random phantoms")->capture_default_str();
+  command->add_option("--seed", args->seed, "Seed for the random phantoms")
+      ->transform(whole_number_from(0, std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
   command->add_flag("-q,--quiet", args->quiet, "Print nothing");
   command->callback([args] { run_phantom(*args); });
 }

@@ -8,8 +8,10 @@
 #include "error.h"
 #include "mesh_job.h"
 #include "mesh_render.h"
+#include "message_line.h"
 #include "output_file.h"
 #include "output_targets.h"
+#include "picture_frame.h"
 #include "ply_reader.h"
 #include "slice_image_writer.h"
 
@@ -36,11 +38,22 @@ void run_render(const RenderArguments& args) {
                        std::nullopt, {args.mesh});
   OutputFile file(options.image_path);  // fails now, not after reading a large mesh
 
-  const PlyMesh mesh = read_ply(args.mesh);
+  PlyMesh mesh = read_ply(args.mesh);
   glm::vec3 box_min, box_max;
   if (!face_bounds(mesh, &box_min, &box_max)) throw Error(args.mesh, "no faces to render");
   std::vector<std::array<float, 3>> normals;
   if (options.smooth) normals = mesh.normals.empty() ? area_weighted_normals(mesh) : mesh.normals;
+  // Drawn in the frame of its box, computed in double (picture_frame.h): a mesh near 1e-44 or
+  // 3e38 has a float box the camera cannot fit. The positions are moved in place, after the
+  // normals, which need the file's own.
+  const auto to_double = [](const glm::vec3& v) { return Vector3d{v.x, v.y, v.z}; };
+  const PictureFrame frame = PictureFrame::around(to_double(box_min), to_double(box_max));
+  for (std::array<float, 3>& p : mesh.positions) {
+    const glm::vec3 placed = frame.point({p[0], p[1], p[2]});
+    p = {placed.x, placed.y, placed.z};
+  }
+  box_min = frame.point(to_double(box_min));
+  box_max = frame.point(to_double(box_max));
 
   Lighting lighting = options.lighting;
   // Any mesh may come here, open or inconsistently wound: draw both sides unless told it is
@@ -62,7 +75,8 @@ void run_render(const RenderArguments& args) {
   file.commit();
   if (!args.quiet)
     std::fprintf(stderr, "%s: %s faces of %s (%s normals), %ux%u, %s triangles drawn\n",
-                 options.image_path.c_str(), grouped(mesh.face_count()).c_str(), args.mesh.c_str(),
+                 one_line(options.image_path).c_str(), grouped(mesh.face_count()).c_str(),
+                 one_line(args.mesh).c_str(),
                  !options.smooth        ? "flat"
                  : mesh.normals.empty() ? "area-weighted"
                                         : "the file's",

@@ -2,27 +2,67 @@
 
 #include <cstdio>
 #include <sstream>
+#include <string_view>
 
 namespace mvox {
 
+namespace {
+
+// The length of the well-formed UTF-8 sequence at the start of `text` (1 to 4), or 0 when it
+// does not start with one: a stray continuation byte, an overlong form, a surrogate, a code
+// point past U+10FFFF, or a sequence cut short (Unicode's table 3-7).
+std::size_t utf8_sequence_length(std::string_view text) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  const unsigned char lead = byte(0);
+  if (lead < 0x80) return 1;
+  std::size_t length = 0;
+  unsigned char low = 0x80, high = 0xbf;  // the second byte's range
+  if (lead >= 0xc2 && lead <= 0xdf) {
+    length = 2;
+  } else if (lead >= 0xe0 && lead <= 0xef) {
+    length = 3;
+    if (lead == 0xe0) low = 0xa0;   // overlong
+    if (lead == 0xed) high = 0x9f;  // surrogates
+  } else if (lead >= 0xf0 && lead <= 0xf4) {
+    length = 4;
+    if (lead == 0xf0) low = 0x90;   // overlong
+    if (lead == 0xf4) high = 0x8f;  // past U+10FFFF
+  } else {
+    return 0;
+  }
+  if (text.size() < length || byte(1) < low || byte(1) > high) return 0;
+  for (std::size_t i = 2; i < length; ++i)
+    if (byte(i) < 0x80 || byte(i) > 0xbf) return 0;
+  return length;
+}
+
+}  // namespace
+
 std::string json_string(const std::string& text) {
   std::string out = "\"";
-  for (unsigned char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (c < 0x20) {
-          char escaped[8];
-          std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-          out += escaped;
-        } else {
-          out += static_cast<char>(c);
-        }
+  std::string_view rest = text;
+  while (!rest.empty()) {
+    const std::size_t length = utf8_sequence_length(rest);
+    if (length == 0) {
+      // A byte that is not UTF-8 (a file name in Latin-1, say) would make the report invalid
+      // JSON: it becomes U+FFFD, the replacement character, one per byte.
+      out += "\xef\xbf\xbd";
+      rest.remove_prefix(1);
+      continue;
     }
+    const auto c = static_cast<unsigned char>(rest[0]);
+    if (c == '"') {
+      out += "\\\"";
+    } else if (c == '\\') {
+      out += "\\\\";
+    } else if (c < 0x20 || c == 0x7f) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+      out += escaped;
+    } else {
+      out.append(rest.data(), length);
+    }
+    rest.remove_prefix(length);
   }
   return out + "\"";
 }

@@ -31,7 +31,9 @@ struct RunReport {
 
 std::string run_report_json(const RunReport& report);
 
-// `text` as a JSON string literal, quotes included.
+// `text` as a JSON string literal, quotes included, always valid JSON (RFC 8259): well-formed
+// UTF-8 passes as it is, control characters (and DEL) are written \u00XX, and each byte that is
+// not part of well-formed UTF-8 becomes U+FFFD, the replacement character.
 std::string json_string(const std::string& text);
 
 }  // namespace mvox

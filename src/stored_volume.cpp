@@ -67,8 +67,10 @@ bool volume_size_fits(std::uint64_t width, std::uint64_t height, std::uint64_t d
 bool set_axis_from_vector(VolumeInfo& info, int axis, const double vector[3]) {
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(vector[i])) return false;
-  const double length =
-      std::sqrt(vector[0] * vector[0] + vector[1] * vector[1] + vector[2] * vector[2]);
+  // hypot, not the root of the summed squares: those overflow for a component past 1e154, and a
+  // spacing of 1e300 must reach WorldTransform::check, which calls it too large, rather than
+  // be taken for no spacing at all.
+  const double length = std::hypot(vector[0], vector[1], vector[2]);
   if (!(length > 0) || !std::isfinite(length)) return false;
   info.spacing[axis] = length;
   for (int i = 0; i < 3; ++i) info.axes[axis][i] = vector[i] / length;

@@ -161,6 +161,14 @@ std::string resolve_data_file(const std::string& header_path, const std::string&
   if (fs::is_directory(status)) {
     throw Error(header_path, "data file " + path.string() + " is a directory");
   }
+  // Opening a FIFO waits for a writer, forever if none comes; and a header's offsets and sizes
+  // mean nothing in a stream. (A raw volume may still be a pipe: there the user says so.)
+  if (!fs::is_regular_file(status)) {
+    const char* kind = fs::is_fifo(status)     ? "a FIFO"
+                       : fs::is_socket(status) ? "a socket"
+                                               : "a device";
+    throw Error(header_path, "data file " + path.string() + " is " + kind + ", not a regular file");
+  }
   return path.string();
 }
 

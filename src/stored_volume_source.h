@@ -70,7 +70,8 @@ class StoredVolumeSource : public SliceSource {
 std::string read_file_start(RawFile& file, std::size_t max_bytes);
 
 // `data_file` as named in the header `header_path`: relative names are relative to the
-// header's directory. Throws mvox::Error naming the header when the file does not exist.
+// header's directory. Throws mvox::Error naming the header when the file does not exist, is a
+// directory, or is not a regular file (a FIFO, socket or device), before opening it.
 std::string resolve_data_file(const std::string& header_path, const std::string& data_file);
 
 }  // namespace mvox

@@ -6,14 +6,12 @@
 
 #include "error.h"
 #include "live_window.h"
+#include "message_line.h"
+#include "picture_frame.h"
 #include "slice_image_writer.h"
 
 namespace mvox {
 namespace {
-
-glm::vec3 to_vec3(const std::array<double, 3>& v) {
-  return glm::vec3(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
-}
 
 void prepare_frames_dir(const std::string& dir) {
   std::error_code error;
@@ -46,20 +44,25 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
   if (options.every == 0) throw Error("--every", "must be at least 1");
   if (!options.image_path.empty()) check_image_extension(options.image_path);
 
-  VolumeInfo placed = volume;
+  // The box the surface can occupy (voxel coordinates -0.5 .. n - 0.5, as volume_bounds()
+  // gives it), in double, and the picture drawn in its frame (picture_frame.h says why).
+  const double extent[3] = {double(volume.width), double(volume.height), double(volume.depth)};
+  Vector3d low, high;
   for (int axis = 0; axis < 3; ++axis) {
-    placed.spacing[axis] = spacing[axis];
-    placed.origin[axis] = origin[axis];
+    const double last = extent[axis] > 0 ? extent[axis] - 0.5 : 0.5;
+    low[axis] = origin[axis] - 0.5 * spacing[axis];
+    high[axis] = origin[axis] + last * spacing[axis];
   }
-  glm::vec3 box_min, box_max;
-  volume_bounds(placed, &box_min, &box_max);
-  const Camera camera = fit_camera(box_min, box_max, options.view, options.width, options.height);
+  const PictureFrame frame = PictureFrame::around(low, high);
+  const Camera camera =
+      fit_camera(frame.point(low), frame.point(high), options.view, options.width, options.height);
   memory_.resize((bytes + sizeof(float) - 1) / sizeof(float));
   const Status status =
       renderer_.init(memory_.data(), memory_.size() * sizeof(float), camera, options.lighting);
   if (status != Status::ok)
     throw Error("renderer", std::string("cannot start: ") + status_message(status));
-  sink_.emplace(renderer_, to_vec3(spacing), to_vec3(origin), options.smooth ? normals : nullptr);
+  sink_.emplace(renderer_, frame.length(spacing), frame.point(origin),
+                options.smooth ? normals : nullptr);
 
   if (!options.frames_dir.empty()) prepare_frames_dir(options.frames_dir);
   if (!options.image_path.empty()) image_file_.emplace(options.image_path);
@@ -68,8 +71,7 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
     live_window_ = LiveWindow::open("mvox", &why_not);
     // The window only shows the run: without it the run is still worth doing.
     if (!live_window_)
-      std::fprintf(stderr, "mvox: warning: --show: %s; going on without a window\n",
-                   why_not.c_str());
+      print_message("warning", "--show: " + why_not + "; going on without a window");
   }
 }
 

@@ -40,9 +40,10 @@ std::string frame_file_name(std::uint32_t slices_done, std::uint32_t depth);
 class SurfacePicture {
  public:
   // Sets up the renderer for `volume` placed with `spacing` and `origin` (as the mesh is
-  // written). `normals` (borrowed, may be null) gives smooth shading. Creates the image's
-  // temporary file and the frames directory now, so that a bad path fails before a long run.
-  // Throws mvox::Error.
+  // written), drawing in the frame of the volume's box (picture_frame.h), so that the picture
+  // does not depend on the box's size or place. `normals` (borrowed, may be null) gives smooth
+  // shading. Creates the image's temporary file and the frames directory now, so that a bad path
+  // fails before a long run. Throws mvox::Error.
   SurfacePicture(const VolumeInfo& volume, const std::array<double, 3>& spacing,
                  const std::array<double, 3>& origin, const VertexNormals* normals,
                  const PictureOptions& options);

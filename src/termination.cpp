@@ -12,8 +12,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
+
+#include "message_line.h"
 
 namespace mvox {
 namespace {
@@ -64,7 +67,8 @@ const char* signal_name(int signal_number) {
   const std::string& subject = r.outputs.empty() ? r.subject : r.outputs.front().target;
   // Over a progress line on a terminal, start from a clean line.
   std::string line = isatty(STDERR_FILENO) == 1 ? "\r\033[K" : "";
-  line += "mvox: error: " + subject + ": interrupted by " + signal_name(signal_number) + "\n";
+  line +=
+      "mvox: error: " + one_line(subject) + ": interrupted by " + signal_name(signal_number) + "\n";
   // write(2), not stdio: another thread may hold stderr's lock for as long as it likes.
   const ssize_t ignored = ::write(STDERR_FILENO, line.data(), line.size());
   (void)ignored;

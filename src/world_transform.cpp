@@ -26,7 +26,32 @@ std::string number(double value) {
   return text;
 }
 
+std::string usable_range(double lowest, double highest) {
+  return " (usable: " + number(lowest) + " to " + number(highest) + ")";
+}
+
 }  // namespace
+
+std::string spacing_problem(double value, const std::string& shown) {
+  const std::string text = shown.empty() ? number(value) : shown;
+  if (!(value > 0.0) || !std::isfinite(value)) return "must be positive and finite, got " + text;
+  if (value < kMinSpacing)
+    return "is too small for float coordinates, got " + text +
+           usable_range(kMinSpacing, kMaxCoordinate);
+  if (value > kMaxCoordinate)
+    return "is too large for float coordinates, got " + text +
+           usable_range(kMinSpacing, kMaxCoordinate);
+  return "";
+}
+
+std::string origin_problem(double value, const std::string& shown) {
+  const std::string text = shown.empty() ? number(value) : shown;
+  if (!std::isfinite(value)) return "must be finite, got " + text;
+  if (std::fabs(value) > kMaxCoordinate)
+    return "is too large for float coordinates, got " + text +
+           usable_range(-kMaxCoordinate, kMaxCoordinate);
+  return "";
+}
 
 WorldTransform WorldTransform::of_volume(const VolumeInfo& volume) {
   WorldTransform transform;
@@ -38,26 +63,49 @@ WorldTransform WorldTransform::of_volume(const VolumeInfo& volume) {
   return transform;
 }
 
-void WorldTransform::check() const {
-  constexpr double kFloatMax = std::numeric_limits<float>::max();
+void WorldTransform::check(const std::string& subject) const {
   for (int a = 0; a < 3; ++a) {
-    if (!(spacing[a] > 0.0 && spacing[a] <= kFloatMax))
-      throw Error(std::string("spacing ") + kAxisName[a],
-                  "must be positive and finite, got " + number(spacing[a]));
-    if (!(std::fabs(origin[a]) <= kFloatMax))
-      throw Error(std::string("origin ") + kAxisName[a],
-                  "must be finite, got " + number(origin[a]));
+    const std::string spacing_text = spacing_problem(spacing[a]);
+    if (!spacing_text.empty())
+      throw Error(subject, std::string("spacing ") + kAxisName[a] + " " + spacing_text);
+    const std::string origin_text = origin_problem(origin[a]);
+    if (!origin_text.empty())
+      throw Error(subject, std::string("origin ") + kAxisName[a] + " " + origin_text);
     for (int i = 0; i < 3; ++i)
       if (!std::isfinite(axes[a][i]))
-        throw Error(std::string("voxel axis ") + kAxisName[a],
-                    "direction must be finite, got " + number(axes[a][i]));
+        throw Error(subject, std::string("voxel axis ") + kAxisName[a] +
+                                 " direction must be finite, got " + number(axes[a][i]));
   }
+  if (!axes_span_space())
+    throw Error(subject, "voxel axes are zero or coplanar, so they cannot place a mesh");
+}
+
+bool WorldTransform::axes_span_space() const {
   // The determinant relative to the axes' lengths is the volume of the parallelepiped they span
   // as a fraction of a cube's: near 0 the axes are (nearly) coplanar and the mesh would be
   // flattened.
   const double scale = length(axes[0]) * length(axes[1]) * length(axes[2]);
-  if (!(scale > 0.0) || !(std::fabs(determinant(axes)) > 1e-6 * scale))
-    throw Error("voxel axes", "directions are zero or coplanar, so they cannot place a mesh");
+  return scale > 0.0 && std::fabs(determinant(axes)) > 1e-6 * scale;
+}
+
+std::string WorldTransform::reach_problem(std::uint32_t width, std::uint32_t height,
+                                          std::uint32_t depth) const {
+  // Each world coordinate is affine in the voxel position, so its extremes are at the corners
+  // of the box the vertices lie in.
+  const double last[3] = {double(width) - 0.5, double(height) - 0.5, double(depth) - 0.5};
+  double farthest[3] = {0.0, 0.0, 0.0};
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vector3d p = position(static_cast<float>((corner & 1) ? last[0] : -0.5),
+                                static_cast<float>((corner & 2) ? last[1] : -0.5),
+                                static_cast<float>((corner & 4) ? last[2] : -0.5));
+    for (int i = 0; i < 3; ++i)
+      if (std::fabs(p[i]) > std::fabs(farthest[i])) farthest[i] = p[i];
+  }
+  for (int i = 0; i < 3; ++i)
+    if (!(std::fabs(farthest[i]) <= kMaxCoordinate))
+      return "the mesh would reach " + number(farthest[i]) + " along " + kAxisName[i] +
+             ", beyond float's range (at most " + number(kMaxCoordinate) + ")";
+  return "";
 }
 
 bool WorldTransform::is_axis_aligned() const {

@@ -3,13 +3,31 @@
 // voxel coordinates (DESIGN.md section 4), from the input's VolumeInfo or the user's --spacing
 // and --origin.
 #include <array>
+#include <cstdint>
 #include <glm/vec3.hpp>
+#include <limits>
+#include <string>
 
 #include "mvox/slice_source.h"
 
 namespace mvox {
 
 using Vector3d = std::array<double, 3>;
+
+// The values a placement may hold, because meshes are written in float. A spacing must keep half
+// of itself (the smallest step between two vertices) a normal float: below that, coordinates
+// lose bits one by one, and from about 1e-45 on they all round to 0. No coordinate may pass
+// float's largest value.
+inline constexpr double kMinSpacing = 2.0 * std::numeric_limits<float>::min();  // 2.35e-38
+inline constexpr double kMaxCoordinate = std::numeric_limits<float>::max();     // 3.40e+38
+
+// Why `value` cannot be a spacing, or "" when it can: "must be positive and finite, got 0", "is
+// too small for float coordinates, got 1e-40 (usable: 2.35099e-38 to 3.40282e+38)", "is too
+// large ...". `shown` is the value as the user wrote it, or empty to print it with %g.
+std::string spacing_problem(double value, const std::string& shown = "");
+// The same for a coordinate of the origin: "must be finite, got nan", "is too large ...".
+std::string origin_problem(double value, const std::string& shown = "");
+
 using Matrix3d = std::array<Vector3d, 3>;  // row-major: m[row][column]
 
 struct WorldTransform {
@@ -22,10 +40,22 @@ struct WorldTransform {
 
   static WorldTransform of_volume(const VolumeInfo& volume);
 
-  // Throws mvox::Error when a value cannot place a mesh: a spacing that is not positive and
-  // finite (a negative one would mirror silently; mirroring belongs to the axes), an origin or
-  // axis component that is not finite or beyond float range, or axes that do not span space.
-  void check() const;
+  // Throws mvox::Error(subject, ...) when a value cannot place a mesh: a spacing outside
+  // spacing_problem()'s range (a negative one would mirror silently; mirroring belongs to the
+  // axes), an origin outside origin_problem()'s, an axis component that is not finite, or axes
+  // that do not span space. `subject` is what gave the values: the input file, as a rule. The
+  // problem names the value, e.g. "spacing x is too large for float coordinates, got 1e+300
+  // (usable: ...)".
+  void check(const std::string& subject) const;
+
+  // Why the vertices of a width x height x depth volume placed by this transform would not all
+  // fit in float coordinates ("the mesh would reach 3.7e+38 along z, beyond float's range (at
+  // most 3.40282e+38)"), or "" when they fit. Vertices lie from -0.5 to size - 0.5 voxels along
+  // each axis. Requires check() to pass.
+  std::string reach_problem(std::uint32_t width, std::uint32_t height, std::uint32_t depth) const;
+
+  // True when the axes span space: no axis is zero and they are not (nearly) coplanar.
+  bool axes_span_space() const;
 
   bool is_axis_aligned() const;  // axes are the identity: positions only scale and shift
   // True when the transform turns right-handed into left-handed (its determinant is negative):

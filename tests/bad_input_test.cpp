@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -205,6 +206,41 @@ TEST_F(BadInput, EmptyDirectoryNoImagesAndNoMatch) {
                  "no such file or directory");
 }
 
+// A name may hold any byte but '/' and NUL. Printed as it is, a newline would split the error
+// line in two and an escape sequence would reach the terminal: both are shown escaped.
+TEST_F(BadInput, ControlCharactersInNamesStayInOneLine) {
+  auto run = [&](const std::vector<std::string>& arguments) {
+    MvoxProcess mvox(arguments, dir_.path());
+    return mvox.finish();
+  };
+  MvoxProcess::Ending ending = run({"extract", "no\nsuch\x1b(B\t", "-t", "128", "-q"});
+  EXPECT_EQ(ending.exit_code, 1);
+  EXPECT_EQ(ending.errors, "mvox: error: no\\nsuch\\x1b(B\\x09: no such file or directory\n");
+  // A usage error quotes the value; its second line is the pointer to --help.
+  ending = run({"extract", "stack", "-t", "128", "-q", "--method", "a\nb\rc\x7f"});
+  EXPECT_EQ(ending.exit_code, 2);
+  EXPECT_EQ(ending.errors.substr(0, ending.errors.find('\n')),
+            "mvox: error: --method: a\\nb\\x0dc\\x7f not in {voxels,cubes}");
+  EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 2) << ending.errors;
+  // The summary names the mesh, written under its real name.
+  ending = run({"extract", "stack", "-t", "128", "-o", "mesh\n.ply"});
+  EXPECT_EQ(ending.exit_code, 0) << ending.errors;
+  EXPECT_EQ(ending.errors.rfind("mesh\\n.ply: ", 0), 0u) << ending.errors;
+  EXPECT_TRUE(fs::exists(dir_ / "mesh\n.ply"));
+  // A warning quotes what the environment says.
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved = display != nullptr ? display : "";
+  ::setenv("DISPLAY", ":59123\n", 1);  // no server listens on display 59123
+  ending = run({"extract", "stack", "-t", "128", "--image", "picture.png", "--show", "-q"});
+  if (display != nullptr)
+    ::setenv("DISPLAY", saved.c_str(), 1);
+  else
+    ::unsetenv("DISPLAY");
+  EXPECT_EQ(ending.exit_code, 0) << ending.errors;
+  EXPECT_EQ(ending.errors.rfind("mvox: warning: --show: ", 0), 0u) << ending.errors;
+  EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 1) << ending.errors;
+}
+
 // RAW INPUT -----------------------------------------------------------------------------------
 
 TEST_F(BadInput, RawVolumeOfTheWrongSize) {
@@ -258,7 +294,65 @@ TEST_F(BadInput, UnknownOptionValuesAreUsageErrors) {
   expect_refused(job + " --image-size 0x0", "--image-size", "'0x0' is not a picture size", 2);
   expect_refused(job + " --image-size 3x", "--image-size", "'3x' is not a picture size", 2);
   expect_refused(job + " --view 1,2,3,4", "--view", "At Most 3", 2);
-  expect_refused(job + " --origin 1,nan,0", "--origin", "'nan' is not a finite number", 2);
+  expect_refused(job + " --origin 1,nan,0", "--origin", "must be finite, got nan", 2);
+}
+
+// Numbers that are not what they seem: NaN passes CLI::Range (every comparison with it is
+// false), sscanf's %u reads "1e3" as 1 and wraps "4294967808" around to 512, and strtoull reads
+// "-1" as 2^64 - 1. Each is a usage error naming the option, in a line of reasonable length.
+TEST_F(BadInput, NumbersOutsideTheirRangeAreUsageErrors) {
+  const std::string job = "extract stack -t 128" + kOutputs;
+  for (const char* view : {"nan,0", "0,nan", "0,0,nan", "inf,0", "0,-inf"})
+    expect_refused(job + " --view " + view, "--view", "must be a number from -360 to 360, got ", 2);
+  expect_refused(job + " --fov nan", "--fov", "must be a number from 1 to 170, got nan", 2);
+  expect_refused(job + " --perspective --fov inf", "--fov", "from 1 to 170, got inf", 2);
+  expect_refused(job + " --image-size 1e3", "--image-size", "'1e3' is not a picture size", 2);
+  expect_refused(job + " --image-size 4294967808", "--image-size",
+                 "'4294967808' is not a picture size", 2);
+  expect_refused(job + " --image-size 64x4294967360", "--image-size",
+                 "'64x4294967360' is not a picture size", 2);
+  for (const char* size : {"+64", "-64", "' 64'", "64x+64", "0x40", "64.0"})
+    expect_refused(job + " --image-size " + size, "--image-size", "is not a picture size", 2);
+  expect_refused(job + " --every 1e3", "--every",
+                 "must be a whole number from 1 to 1073741824, got 1e3", 2);
+  expect_refused(job + " --every 4294967297", "--every", "got 4294967297", 2);
+  // CLI::PositiveNumber's refusal printed its bound, DBL_MAX, with some 310 digits.
+  for (const char* spacing : {"0,1,1", "1,-2,1", "1,1,nan", "inf,1,1"}) {
+    expect_refused(job + " --spacing " + spacing, "--spacing", "must be positive and finite, got ",
+                   2);
+  }
+  expect_refused(job + " --spacing 1,1,1e300", "--spacing",
+                 "is too large for float coordinates, got 1e300 (usable: 2.35099e-38 to "
+                 "3.40282e+38)",
+                 2);
+  expect_refused(job + " --origin 0,-1e39,0", "--origin",
+                 "is too large for float coordinates, got -1e39", 2);
+  // The other subcommands' numbers.
+  expect_refused("demo --size 1e2" + kOutputs, "--size",
+                 "must be a whole number from 2 to 4096, got 1e2", 2);
+  expect_refused("demo --view 0,nan" + kOutputs, "--view", "got nan", 2);
+  expect_refused("render previous.ply -o previous.png --fov nan -q", "--fov", "got nan", 2);
+  expect_refused("render previous.ply -o previous.png --view nan,0 -q", "--view", "got nan", 2);
+  expect_refused("phantom sphere -o more --seed -1 -q", "--seed",
+                 "must be a whole number from 0 to 18446744073709551615, got -1", 2);
+  expect_refused("phantom sphere -o more --seed 18446744073709551616 -q", "--seed",
+                 "got 18446744073709551616", 2);
+}
+
+TEST_F(BadInput, WholeNumbersAreReadInDecimal) {
+  // strtoull, CLI11's reader, takes "010" as octal 8 and "0x10" as 16; mvox means 10, and
+  // refuses 0x10. Frames every 010 slices of 24: frame_0010, frame_0020 and the last, frame_0024.
+  ASSERT_EQ(run_mvox("phantom sphere -o tall --size 12x10x24 -q", dir_.path()).exit_code, 0);
+  const CommandResult result =
+      run_mvox("extract tall -t 128 --image p.png --frames frames --every 010 -q", dir_.path());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::vector<std::string> frames;
+  for (const auto& entry : fs::directory_iterator(dir_ / "frames"))
+    frames.push_back(entry.path().filename().string());
+  std::sort(frames.begin(), frames.end());
+  EXPECT_EQ(frames,
+            (std::vector<std::string>{"frame_0010.png", "frame_0020.png", "frame_0024.png"}));
+  expect_refused("demo --size 0x10" + kOutputs, "--size", "got 0x10", 2);
 }
 
 TEST_F(BadInput, ThresholdOutsideTheSampleRange) {
@@ -415,11 +509,12 @@ INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt, ::testing::Values(SIGINT, SIGTERM,
 // cancellation, src/read_cancellation.h), not wait for a writer that may never close.
 TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
-  const auto before = test::tree_snapshot(dir_.path());
   std::vector<std::string> job = interrupted_job();
-  // Vertices at slice 5 and beyond lie past the float range: a writer error mid-volume.
-  for (const char* extra : {"--origin", "0,0,3.3e38", "--spacing", "1,1,2.5e36"})
-    job.push_back(extra);
+  // The frame after slice 5 cannot be written, its name being taken by a directory: an error
+  // mid-volume. (A placement past float's range, used before, is now refused before the run.)
+  ASSERT_TRUE(fs::create_directories(dir_ / "frames/frame_0005.png"));
+  for (const char* extra : {"--frames", "frames", "--every", "5"}) job.push_back(extra);
+  const auto before = test::tree_snapshot(dir_.path());
   MvoxProcess mvox(job, dir_.path());
   FifoWriter fifo(dir_ / "volume.raw");
   // Seven slices are just enough for the error (found by trying; the picture's normals keep the
@@ -430,7 +525,7 @@ TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   const MvoxProcess::Ending ending = mvox.finish();
   fifo.close();
   EXPECT_EQ(ending.exit_code, 1);
-  EXPECT_NE(ending.errors.find("mvox: error: previous.ply: vertex "), std::string::npos)
+  EXPECT_NE(ending.errors.find("mvox: error: frames/frame_0005.png: "), std::string::npos)
       << ending.errors;
   EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 1) << ending.errors;
   test::expect_same_tree(before, test::tree_snapshot(dir_.path()));

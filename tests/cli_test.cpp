@@ -2,20 +2,26 @@
 // read back from PLY by the strict reader. Bad input has its own suite: bad_input_test.cpp.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "command_runner.h"
 #include "mesh_topology.h"
+#include "mvox_process.h"
 #include "phantom_factory.h"
 #include "ply_mesh.h"
 #include "ply_reader.h"
 #include "simulated_scanner.h"
+#include "stats_json.h"
 
 namespace mvox {
 namespace {
 
 using test::expect_one_line_error;
+using test::MvoxProcess;
 using test::run_mvox;
 using test::ScratchDirectory;
 
@@ -57,6 +63,63 @@ TEST(Cli, PhantomStackExtractedFromFilesIsClosedWithTheRightTopology) {
   for (const char* field : {"\"threshold\": 128", "\"inner_voxels\"", "\"polygons_by_size\"",
                             "\"time_seconds\"", "\"peak_memory_bytes\"", "\"engine\": \"fast\""})
     EXPECT_NE(json.find(field), std::string::npos) << field;
+}
+
+// What `command` prints (through the shell).
+std::string command_output(const std::string& command) {
+  std::string output;
+  if (std::FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[4096];
+    std::size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
+    pclose(pipe);
+  }
+  return output;
+}
+
+// Strings in JSON must be UTF-8 without raw control characters; names on disk are any bytes.
+TEST(Cli, JsonStringsAreValidWhateverTheBytes) {
+  EXPECT_EQ(json_string("plain/é/€/𝄞"), "\"plain/é/€/𝄞\"");  // UTF-8 passes as it is
+  EXPECT_EQ(json_string("a\"b\\c"), "\"a\\\"b\\\\c\"");
+  EXPECT_EQ(json_string(std::string("\n\t\x1f\x7f\0z", 6)),
+            "\"\\u000a\\u0009\\u001f\\u007f\\u0000z\"");
+  const std::string replacement = "\xef\xbf\xbd";  // U+FFFD, for each byte that is not UTF-8
+  EXPECT_EQ(json_string("\xff"), "\"" + replacement + "\"");
+  EXPECT_EQ(json_string("caf\xe9!"), "\"caf" + replacement + "!\"");            // Latin-1
+  EXPECT_EQ(json_string("\xc0\xaf"), "\"" + replacement + replacement + "\"");  // overlong '/'
+  EXPECT_EQ(json_string("\xed\xa0\x80"), "\"" + replacement + replacement + replacement + "\"");
+  EXPECT_EQ(json_string("\xf4\x90\x80\x80"),
+            "\"" + replacement + replacement + replacement + replacement + "\"");  // past U+10FFFF
+  EXPECT_EQ(json_string("\xe2\x82"), "\"" + replacement + replacement + "\"");     // cut short
+  EXPECT_EQ(json_string("\xe2\x82z"), "\"" + replacement + replacement + "z\"");
+}
+
+// The report of a run on a folder whose name is not UTF-8 and holds a newline parses as JSON.
+TEST(Cli, StatsReportIsValidJsonWhateverTheFileNames) {
+  if (std::system("command -v python3 >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "python3 is not installed: its strict JSON parser checks the report";
+  ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom sphere -o stack --size 12x10x8 -q", dir.path()).exit_code, 0);
+  const std::string name = "stack\xff\n\xc3\xa9";  // a Latin-1 byte, a newline, UTF-8 é
+  std::filesystem::rename(dir / "stack", dir / name);
+  MvoxProcess mvox(
+      {"extract", name, "-t", "128", "-o", name + ".ply", "--stats", "report.json", "-q"},
+      dir.path());
+  const MvoxProcess::Ending ending = mvox.finish();
+  ASSERT_EQ(ending.exit_code, 0) << ending.errors;
+  const std::string json = read_text(dir / "report.json");
+  // Strict: UTF-8 only, no raw control character in a string, no NaN.
+  const std::string check =
+      "cd '" + dir.path().string() +
+      "' && python3 -c 'import json, sys; json.loads(open(sys.argv[1], encoding=\"utf-8\", "
+      "errors=\"strict\").read(), parse_constant=lambda c: 1 / 0); print(\"valid\")' "
+      "report.json 2>&1";
+  const std::string parsed = command_output(check);
+  EXPECT_EQ(parsed, "valid\n") << json;
+  EXPECT_NE(json.find("\"input\": \"stack\xef\xbf\xbd\\u000a\xc3\xa9\""), std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"output\": \"stack\xef\xbf\xbd\\u000a\xc3\xa9.ply\""), std::string::npos)
+      << json;
 }
 
 TEST(Cli, LiteralEngineAsciiAndSpacingOptions) {

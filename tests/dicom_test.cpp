@@ -4,6 +4,7 @@
 #include <gdcmAttribute.h>
 #include <gdcmReader.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
@@ -938,6 +939,53 @@ TEST(DicomCli, SeriesNotesErrorsAndHelp) {
   EXPECT_NE(help.output.find("DICOM"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("--series"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("--dicom"), std::string::npos) << help.output;
+}
+
+// An entry of the series' folder that cannot be read is named, as in an image stack, rather
+// than hiding the series (the folder was then read as images and said to hold none).
+TEST(DicomCli, AFifoOrADanglingLinkBesideTheSeriesIsNamed) {
+  ScratchDirectory dir;
+  fs::create_directory(dir / "scans");
+  DicomSliceSpec spec;
+  spec.pixel_spacing = std::array<double, 2>{1, 1};
+  write_series((dir / "scans"), "a", spec, 3, {0, 0, 0}, 1);
+  ASSERT_EQ(::mkfifo((dir / "scans/pipe").c_str(), 0600), 0);
+  // Never opened: with no writer, opening the FIFO would wait forever.
+  expect_one_line_error(run_mvox("extract scans -t 100 -o x.ply", dir.path()),
+                        "mvox: error: scans/pipe: is not a regular file (a FIFO, socket or "
+                        "device), not a slice");
+  fs::remove(dir / "scans/pipe");
+  fs::create_symlink("gone.dcm", dir / "scans/a7.dcm");
+  expect_one_line_error(run_mvox("extract scans -t 100 -o x.ply", dir.path()),
+                        "mvox: error: scans/a7.dcm: is a dangling symbolic link");
+  expect_one_line_error(run_mvox("extract 'scans/*' -t 100 -o x.ply", dir.path()),
+                        "mvox: error: scans/a7.dcm: is a dangling symbolic link");
+  EXPECT_EQ(dir.listing(), "scans ");
+}
+
+// A spacing or position that float coordinates cannot hold is refused naming the input, and
+// called too large (not "must be positive and finite", as 1e300 is both).
+TEST(DicomCli, SpacingOrPositionBeyondFloatIsRefusedNamingTheInput) {
+  ScratchDirectory dir;
+  DicomSliceSpec spec;
+  spec.pixel_spacing = std::array<double, 2>{1e300, 1};
+  fs::create_directory(dir / "wide");
+  write_series((dir / "wide"), "a", spec, 3, {0, 0, 0}, 1);
+  expect_one_line_error(run_mvox("extract wide -t 100 -o x.ply", dir.path()),
+                        "mvox: error: wide: spacing y is too large for float coordinates, got "
+                        "1e+300 (usable: 2.35099e-38 to 3.40282e+38)");
+  spec.pixel_spacing = std::array<double, 2>{1, 1};
+  fs::create_directory(dir / "far");
+  write_series((dir / "far"), "a", spec, 3, {0, 1e300, 0}, 1);
+  expect_one_line_error(run_mvox("extract far -t 100 --image x.png", dir.path()),
+                        "mvox: error: far: origin y is too large for float coordinates, got "
+                        "1e+300");
+  // Slices 1e300 mm apart: the spacing along the normal.
+  fs::create_directory(dir / "apart");
+  write_series((dir / "apart"), "a", spec, 3, {0, 0, -1e300}, 1e300);
+  expect_one_line_error(run_mvox("extract apart -t 100 -o x.ply", dir.path()),
+                        "mvox: error: apart: spacing z is too large for float coordinates");
+  EXPECT_EQ(dir.listing(), "apart far wide ");
 }
 
 // ---------------------------------------------------------------------------------------------

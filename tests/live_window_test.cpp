@@ -3,20 +3,29 @@
 // own process, so changing DISPLAY here touches no other test.
 #include "live_window.h"
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "display_probe.h"
 
 namespace mvox {
 namespace {
@@ -167,6 +176,147 @@ std::vector<std::uint8_t> gradient(std::uint32_t width, std::uint32_t height) {
   for (std::uint32_t y = 0; y < height; ++y)
     for (std::uint32_t x = 0; x < width; ++x) pixels[y * width + x] = x * 2 + y * 2;
   return pixels;
+}
+
+// A display server of the test's own that listens and then, to each connection, replies with
+// eight bytes, closes it, or says nothing (the kernel completes a connection in the listening
+// backlog without accept(), so a silent server needs no thread).
+class FakeDisplay {
+ public:
+  enum class Reply { bytes, close, none };
+
+  // Listens on `address`, of `bytes` bytes (AF_UNIX or AF_INET).
+  FakeDisplay(const sockaddr* address, socklen_t bytes, Reply reply) {
+    fd_ = ::socket(address->sa_family, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd_ < 0 || ::bind(fd_, address, bytes) != 0 || ::listen(fd_, 8) != 0) {
+      ADD_FAILURE() << "cannot listen: " << std::strerror(errno);
+      return;
+    }
+    if (reply == Reply::none) return;
+    server_ = std::thread([this, reply] {
+      const int client = ::accept(fd_, nullptr, nullptr);
+      if (client < 0) return;  // shut down before any client came
+      char request[64];
+      if (reply == Reply::bytes && ::read(client, request, sizeof request) > 0) {
+        const char answer[8] = {1, 0, 11, 0, 0, 0, 0, 0};
+        if (::write(client, answer, sizeof answer) != sizeof answer) {
+        }
+        char rest;
+        if (::read(client, &rest, 1) < 0) {  // until the client hangs up
+        }
+      }
+      ::close(client);
+    });
+  }
+  ~FakeDisplay() {
+    if (fd_ >= 0) ::shutdown(fd_, SHUT_RDWR);  // wakes accept()
+    if (server_.joinable()) server_.join();
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FakeDisplay(const FakeDisplay&) = delete;
+  FakeDisplay& operator=(const FakeDisplay&) = delete;
+
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+  std::thread server_;
+};
+
+// An X display number no server uses, for an abstract socket of the test's own.
+int free_display_number() { return 50000 + static_cast<int>(getpid() % 9000); }
+
+sockaddr_un x_abstract_address(int number, socklen_t* bytes) {
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  const std::string path = "/tmp/.X11-unix/X" + std::to_string(number);
+  std::memcpy(address.sun_path + 1, path.data(), path.size());
+  *bytes = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + 1 + path.size());
+  return address;
+}
+
+void use_x_display(const std::string& display) {
+  setenv("DISPLAY", display.c_str(), 1);
+  unsetenv("WAYLAND_DISPLAY");
+  unsetenv("QT_QPA_PLATFORM");
+}
+
+constexpr std::chrono::milliseconds kShortWait{300};
+
+TEST(DisplayProbe, AnXServerThatRepliesAnswersOneThatStaysSilentOrHangsUpDoesNot) {
+  const int number = free_display_number();
+  socklen_t bytes = 0;
+  const sockaddr_un address = x_abstract_address(number, &bytes);
+  const std::string display = ":" + std::to_string(number);
+  use_x_display(display);
+  {
+    FakeDisplay server(reinterpret_cast<const sockaddr*>(&address), bytes,
+                       FakeDisplay::Reply::bytes);
+    EXPECT_EQ(display_problem(kShortWait * 10), "");
+  }
+  {
+    FakeDisplay server(reinterpret_cast<const sockaddr*>(&address), bytes,
+                       FakeDisplay::Reply::none);
+    EXPECT_EQ(display_problem(kShortWait), "the X display \"" + display +
+                                               "\" accepted a connection but did not answer within "
+                                               "0.3 s");
+  }
+  {
+    FakeDisplay server(reinterpret_cast<const sockaddr*>(&address), bytes,
+                       FakeDisplay::Reply::close);
+    EXPECT_EQ(display_problem(kShortWait * 10),
+              "the X display \"" + display + "\" closed the connection without answering");
+  }
+  EXPECT_EQ(display_problem(kShortWait), "cannot connect to the X display \"" + display + "\"");
+}
+
+TEST(DisplayProbe, ASilentXServerOverTcpDoesNotAnswer) {
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  FakeDisplay server(reinterpret_cast<const sockaddr*>(&address), sizeof address,
+                     FakeDisplay::Reply::none);
+  socklen_t bytes = sizeof address;
+  ASSERT_EQ(getsockname(server.fd(), reinterpret_cast<sockaddr*>(&address), &bytes), 0);
+  const int port = ntohs(address.sin_port);
+  if (port <= 6000) GTEST_SKIP() << "port " << port << " is no X display's (6000 + N)";
+  const std::string display = "127.0.0.1:" + std::to_string(port - 6000) + ".0";
+  use_x_display(display);
+  EXPECT_EQ(display_problem(kShortWait), "the X display \"" + display +
+                                             "\" accepted a connection but did not answer "
+                                             "within 0.3 s");
+}
+
+TEST(DisplayProbe, WaylandIsAskedWhenQtIsToldToUseIt) {
+  char directory[] = "/tmp/mvox_wayland_XXXXXX";
+  ASSERT_NE(mkdtemp(directory), nullptr);
+  setenv("XDG_RUNTIME_DIR", directory, 1);
+  setenv("WAYLAND_DISPLAY", "wayland-test", 1);
+  setenv("QT_QPA_PLATFORM", "wayland", 1);
+  unsetenv("DISPLAY");
+  const std::string path = std::string(directory) + "/wayland-test";
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+  const auto bytes = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + path.size() + 1);
+  EXPECT_EQ(display_problem(kShortWait), "cannot connect to the Wayland display \"" + path + "\"");
+  for (const FakeDisplay::Reply reply : {FakeDisplay::Reply::bytes, FakeDisplay::Reply::none}) {
+    {
+      FakeDisplay server(reinterpret_cast<const sockaddr*>(&address), bytes, reply);
+      EXPECT_EQ(display_problem(kShortWait),
+                reply == FakeDisplay::Reply::bytes
+                    ? ""
+                    : "the Wayland display \"" + path +
+                          "\" accepted a connection but did not answer within 0.3 s");
+    }
+    unlink(path.c_str());
+  }
+  unsetenv("XDG_RUNTIME_DIR");
+  EXPECT_EQ(display_problem(kShortWait),
+            "the Wayland display \"wayland-test\" lies in XDG_RUNTIME_DIR, which is not set");
+  rmdir(directory);
+  unsetenv("QT_QPA_PLATFORM");
+  unsetenv("WAYLAND_DISPLAY");
 }
 
 TEST(LiveWindow, WithoutAnyDisplayOpenReturnsNullAndSaysSo) {

@@ -484,7 +484,7 @@ TEST(WorldTransform, NormalMatrixKeepsNormalsPerpendicularToTheSurface) {
 
   WorldTransform sheared;
   sheared.axes = {{{1, 0, 0}, {0.6, 0.8, 0}, {0.2, -0.3, 0.9}}};
-  sheared.check();
+  sheared.check("sheared axes");
   const Matrix3d m = sheared.normal_matrix();
   const glm::vec3 normals[] = {{0, 0, 1}, {0.6f, 0.0f, 0.8f}, {-0.48f, 0.6f, 0.64f}};
   for (const glm::vec3& n : normals) {

@@ -1,17 +1,26 @@
 // Pictures from the command line: mvox extract --image/--frames, mvox demo's demo.png, mvox
 // render, PLY normals, and their errors.
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
 #include "command_runner.h"
+#include "mvox_process.h"
 #include "ply_reader.h"
 
 namespace mvox {
@@ -135,6 +144,78 @@ TEST(PictureCli, RenderDrawsPlyFilesWhateverTheirFormat) {
   EXPECT_EQ(file_bytes(dir / "binary.png"), file_bytes(dir / "culled.png"));
 }
 
+// Pictures fit the volume whatever its size, and the fit does not depend on the size: a
+// spacing of 1e-37 or 1e36 must draw what a spacing of 1 draws. The renderer's float camera
+// used to overflow (1e-37: every polygon off-screen) or lose the box (1e36), giving a black
+// picture, and the gradient normals fell back to their axes.
+TEST(PictureCli, ExtremeSpacingsDrawTheSamePictureAndNormalsAsSpacingOne) {
+  ScratchDirectory dir;
+  make_torus_stack(dir);
+  const std::string job = "extract stack -t 128 --normals --view 20,30 -q";
+  ASSERT_EQ(run_mvox(job + " --spacing 1,1,2 -o ref.ply --image ref.png", dir.path()).exit_code, 0);
+  const cv::Mat reference = read_gray(dir / "ref.png");
+  const PlyMesh reference_mesh = read_ply(dir / "ref.ply");
+  ASSERT_GT(cv::countNonZero(reference), 10000);
+  for (const double scale : {1e-37, 3e-38, 1e36}) {
+    SCOPED_TRACE("spacing scaled by " + std::to_string(scale));
+    char spacing[96];
+    std::snprintf(spacing, sizeof spacing, "%.17g,%.17g,%.17g", scale, scale, 2 * scale);
+    const auto result =
+        run_mvox(job + " --spacing " + spacing + " -o scaled.ply --image scaled.png", dir.path());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    cv::Mat difference;
+    cv::absdiff(read_gray(dir / "scaled.png"), reference, difference);
+    // Drawn in the box's own frame, both are the same numbers up to rounding.
+    EXPECT_LE(cv::countNonZero(difference), static_cast<int>(difference.total() / 1000));
+    const PlyMesh mesh = read_ply(dir / "scaled.ply");
+    ASSERT_EQ(mesh.vertex_count(), reference_mesh.vertex_count());
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+      for (int axis = 0; axis < 3; ++axis) {
+        ASSERT_NEAR(mesh.positions[v][axis] / scale, reference_mesh.positions[v][axis], 1e-4)
+            << "vertex " << v;
+        ASSERT_NEAR(mesh.normals[v][axis], reference_mesh.normals[v][axis], 1e-5) << "vertex " << v;
+      }
+  }
+  // Below that the mesh's floats would lose their bits (at 1e-46 every vertex was 0,0,0): a
+  // usage error giving the usable range.
+  expect_one_line_error(run_mvox(job + " --spacing 1e-46,1e-46,1e-46 -o x.ply", dir.path()),
+                        "--spacing: is too small for float coordinates, got 1e-46 (usable: "
+                        "2.35099e-38 to 3.40282e+38)",
+                        2);
+}
+
+// A unit cube as an ASCII PLY, corners at `low` and `high` on every axis.
+void write_cube(const std::string& path, float low, float high) {
+  std::ofstream out(path);
+  out.precision(9);
+  out << "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 6\nproperty list uchar int vertex_indices\n"
+         "end_header\n";
+  for (int corner = 0; corner < 8; ++corner)
+    out << ((corner & 1) ? high : low) << " " << ((corner & 2) ? high : low) << " "
+        << ((corner & 4) ? high : low) << "\n";
+  out << "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+}
+
+// mvox render fits any mesh: a cube of subnormal floats (8 times the smallest, 1.1e-44), one
+// of 1e-37 and one from -3e38 to 3e38 are drawn exactly like the cube from 0 to 1. They were
+// black: the camera's float scale overflowed, or the box's size did.
+TEST(PictureCli, RenderDrawsMeshesAtBothEndsOfFloatsRange) {
+  ScratchDirectory dir;
+  write_cube(dir / "unit.ply", 0.0f, 1.0f);
+  write_cube(dir / "subnormal.ply", 0.0f, 8 * std::numeric_limits<float>::denorm_min());
+  write_cube(dir / "tiny.ply", 0.0f, 1e-37f);
+  write_cube(dir / "huge.ply", -3e38f, 3e38f);
+  ASSERT_EQ(run_mvox("render unit.ply -o unit.png --view 30,20 -q", dir.path()).exit_code, 0);
+  ASSERT_GT(cv::countNonZero(read_gray(dir / "unit.png")), 10000);
+  for (const char* name : {"subnormal", "tiny", "huge"}) {
+    const auto result = run_mvox(
+        std::string("render ") + name + ".ply -o " + name + ".png --view 30,20 -q", dir.path());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_EQ(file_bytes(dir / (std::string(name) + ".png")), file_bytes(dir / "unit.png")) << name;
+  }
+}
+
 TEST(PictureCli, ShowWithoutADisplayWarnsAndStillWritesThePicture) {
   ScratchDirectory dir;
   const auto result =
@@ -142,6 +223,43 @@ TEST(PictureCli, ShowWithoutADisplayWarnsAndStillWritesThePicture) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_EQ(result.output.rfind("mvox: warning: --show: no display", 0), 0u) << result.output;
   EXPECT_EQ(dir.listing(), "demo.ply demo.png ");
+}
+
+// A display that accepts the connection and never answers: Qt would wait for it for ever.
+// mvox asks it first, gives up after kDisplayAnswerTimeout, warns and goes on. (MvoxProcess
+// fails the test after 60 s: a guard, not a timing.)
+TEST(PictureCli, ShowWithADisplayThatNeverAnswersWarnsAndGoesOn) {
+  // An abstract socket, listening and never accepting: the kernel completes the connection.
+  const std::string number = std::to_string(50000 + getpid() % 9000);
+  const std::string path = "/tmp/.X11-unix/X" + number;
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path + 1, path.data(), path.size());
+  const int server = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  ASSERT_EQ(::bind(server, reinterpret_cast<const sockaddr*>(&address),
+                   static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + 1 + path.size())),
+            0);
+  ASSERT_EQ(::listen(server, 8), 0);
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved_display = display != nullptr ? display : "";
+  ::setenv("DISPLAY", (":" + number).c_str(), 1);
+  ::unsetenv("QT_QPA_PLATFORM");
+
+  ScratchDirectory dir;
+  make_torus_stack(dir);
+  test::MvoxProcess mvox({"extract", "stack", "-t", "128", "--image", "torus.png", "--show", "-q"},
+                         dir.path());
+  const test::MvoxProcess::Ending ending = mvox.finish();
+  ::close(server);
+  if (display != nullptr)
+    ::setenv("DISPLAY", saved_display.c_str(), 1);
+  else
+    ::unsetenv("DISPLAY");
+  EXPECT_EQ(ending.exit_code, 0);
+  EXPECT_EQ(ending.errors, "mvox: warning: --show: the X display \":" + number +
+                               "\" accepted a connection but did not answer within 3 s; going "
+                               "on without a window\n");
+  EXPECT_GT(cv::countNonZero(read_gray(dir / "torus.png")), 100);
 }
 
 TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {

@@ -336,6 +336,10 @@ TEST(NrrdHeader, RefusalsNameTheFileLineAndProblem) {
       {base + "space: RAS\nspace dimension: 3\n\n", "the format allows only one of them"},
       {base + "spacings: 1 0 1\n\n", "spacing \"0\" of axis 1 is not a non-zero finite number"},
       {base + "spacings: 1 inf 1\n\n", "spacing \"inf\" of axis 1"},
+      {base + "space: RAS\nspace directions: (1,0,0) (0,1,0) (0,2,0)\n\n",
+       "line 7: space directions: the three axes are parallel or coplanar"},
+      {base + "space: RAS\nspace directions: (1,0,0) (0,1,0) (1,1,0)\n\n",
+       "the three axes are parallel or coplanar"},
       {base + "data file: LIST\n", "lists and numbered patterns of data files are not supported"},
       {base + "data file: slice%03d.raw 1 9 1\n", "lists and numbered patterns"},
       {base, "names no \"data file:\" and no blank line ends it"},
@@ -586,6 +590,8 @@ TEST(MetaImageHeader, RefusalsNameTheFileLineAndProblem) {
        "TransformMatrix: expected 9 finite numbers"},
       {metaimage_fields("MET_UCHAR", "TransformMatrix = 1 0 0 0 0 0 0 0 1\n" + end),
        "the direction of axis 1 is zero"},
+      {metaimage_fields("MET_UCHAR", "TransformMatrix = 1 0 0 0 1 0 1 1 0\n" + end),
+       "line 5: TransformMatrix: is singular: its axes are parallel or coplanar"},
       {metaimage_fields("MET_UCHAR", "ElementByteOrderMSB = maybe\n" + end),
        "ElementByteOrderMSB: expected True or False"},
       {metaimage_fields("MET_UCHAR",
@@ -678,6 +684,83 @@ TEST(VolumeFilesCli, BadVolumesFailWithOneLineAndNoOutput) {
   const test::CommandResult ok = run_mvox("extract good.nrrd -t 100 -o out.ply -q", dir.path());
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_TRUE(fs::exists(dir / "out.ply"));
+}
+
+// A spacing or origin that float coordinates cannot hold names the file and says "too large";
+// a huge spacing used to overflow the length of its axis vector and be dropped for 1, silently.
+TEST(VolumeFilesCli, SpacingOrOriginBeyondFloatNamesTheFile) {
+  const std::vector<unsigned char> raw(2 * 2 * 2, 200);
+  const std::string nrrd = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n";
+  ScratchDirectory dir;
+  write_file(dir / "spacings.nrrd", nrrd + "spacings: 1e300 1 1\n\n", raw);
+  write_file(dir / "directions.nrrd",
+             nrrd + "space: LPS\nspace directions: (1,0,0) (0,1e300,0) (0,0,1)\n\n", raw);
+  write_file(dir / "origin.nrrd",
+             nrrd +
+                 "space: LPS\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: "
+                 "(0,0,-1e39)\n\n",
+             raw);
+  write_file(dir / "reach.nrrd", nrrd + "spacings: 1 1 3e38\n\n", raw);
+  write_file(dir / "spacing.mha",
+             "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementSpacing = 1 1 1e300\n"
+             "ElementDataFile = LOCAL\n",
+             raw);
+  const std::string inputs = dir.listing();
+  const std::pair<const char*, const char*> cases[] = {
+      {"spacings.nrrd",
+       "spacing x is too large for float coordinates, got 1e+300 (usable: "
+       "2.35099e-38 to 3.40282e+38)"},
+      {"directions.nrrd", "spacing y is too large for float coordinates, got 1e+300"},
+      {"origin.nrrd",
+       "origin z is too large for float coordinates, got -1e+39 (usable: "
+       "-3.40282e+38 to 3.40282e+38)"},
+      {"reach.nrrd",
+       "the mesh would reach 4.5e+38 along z, beyond float's range (at most "
+       "3.40282e+38)"},
+      {"spacing.mha", "spacing z is too large for float coordinates, got 1e+300"},
+  };
+  for (const auto& [input, problem] : cases) {
+    // A picture alone is refused too: the report gives the placement, and it is the mesh's.
+    for (const char* outputs : {" -o out.ply", " --image out.png"}) {
+      expect_one_line_error(
+          run_mvox(std::string("extract ") + input + " -t 100" + outputs, dir.path()),
+          std::string("mvox: error: ") + input + ": " + problem);
+      EXPECT_EQ(dir.listing(), inputs) << "an output or temporary was left behind";
+    }
+  }
+  // Given --spacing, the reach is the option's doing: a usage error naming it.
+  expect_one_line_error(
+      run_mvox("extract spacings.nrrd -t 100 -o out.ply --spacing 1,1,3e38", dir.path()),
+      "mvox: error: --spacing: the mesh would reach 4.5e+38 along z", 2);
+  const test::CommandResult ok =
+      run_mvox("extract spacings.nrrd -t 100 -o out.ply --spacing 1,1,1 -q", dir.path());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
+// A detached data file that is a FIFO would keep mvox waiting in open() for a writer that never
+// comes: refused before opening, naming header and data file. (timeout: a guard, so that a
+// regression fails instead of hanging the suite.)
+TEST(VolumeFilesCli, ADataFileThatIsNotARegularFileIsRefusedWithoutOpeningIt) {
+  ScratchDirectory dir;
+  ASSERT_EQ(::mkfifo((dir / "samples.raw").c_str(), 0600), 0);
+  write_file(dir / "volume.nhdr",
+             "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: "
+             "samples.raw\n");
+  write_file(
+      dir / "volume.mhd",
+      "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementDataFile = samples.raw\n");
+  write_file(dir / "device.mhd",
+             "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementDataFile = /dev/zero\n");
+  for (const char* header : {"volume.nhdr", "volume.mhd"}) {
+    expect_one_line_error(
+        run_mvox(std::string("extract ") + header + " -t 100 -o out.ply", dir.path(), "timeout 30"),
+        std::string("mvox: error: ") + header +
+            ": data file samples.raw is a FIFO, not a regular file");
+  }
+  expect_one_line_error(run_mvox("extract device.mhd -t 100 -o out.ply", dir.path(), "timeout 30"),
+                        "mvox: error: device.mhd: data file /dev/zero is a device, not a regular "
+                        "file");
+  EXPECT_EQ(dir.listing(), "device.mhd samples.raw volume.mhd volume.nhdr ");
 }
 
 // ---------------------------------------------------------------------------------------------

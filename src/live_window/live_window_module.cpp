@@ -1,14 +1,7 @@
 // libmvox_live_window.so: the C interface of live_window_module.h over OpenCV's imshow.
 #include "live_window_module.h"
 
-#include <netdb.h>
-#include <sys/socket.h>
-#include <sys/un.h>
-#include <unistd.h>
-
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <opencv2/core.hpp>
 #include <opencv2/highgui.hpp>
 #include <string>
@@ -32,76 +25,6 @@ std::string one_line(std::string text) {
   return text;
 }
 
-bool connects(int family, const sockaddr* address, socklen_t address_bytes) {
-  const int fd = socket(family, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return false;
-  const bool connected = connect(fd, address, address_bytes) == 0;
-  close(fd);
-  return connected;
-}
-
-bool unix_socket_connects(const std::string& path, bool abstract) {
-  sockaddr_un address{};
-  address.sun_family = AF_UNIX;
-  // An abstract address starts with a NUL byte and is not a file.
-  const std::size_t offset = abstract ? 1 : 0;
-  if (offset + path.size() >= sizeof address.sun_path) return false;
-  std::memcpy(address.sun_path + offset, path.data(), path.size());
-  const auto bytes = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + offset + path.size() +
-                                            (abstract ? 0 : 1));
-  return connects(AF_UNIX, reinterpret_cast<const sockaddr*>(&address), bytes);
-}
-
-bool tcp_connects(const std::string& host, int port) {
-  addrinfo hints{};
-  hints.ai_socktype = SOCK_STREAM;
-  addrinfo* addresses = nullptr;
-  if (getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &addresses) != 0)
-    return false;
-  bool connected = false;
-  for (const addrinfo* a = addresses; a != nullptr && !connected; a = a->ai_next)
-    connected = connects(a->ai_family, a->ai_addr, a->ai_addrlen);
-  freeaddrinfo(addresses);
-  return connected;
-}
-
-// Whether an X server answers at `display` ("[protocol/][host]:number[.screen]"), tried the way
-// Xlib and xcb do: a local display through its socket (abstract first, as Linux servers listen
-// on both), a remote one over TCP port 6000 + number. Qt, OpenCV's window toolkit on Debian,
-// ends the whole process when it cannot reach the display; that would take the extraction down
-// with its preview, so we look before Qt does.
-bool x_server_answers(std::string display) {
-  const std::size_t slash = display.find('/');
-  if (slash != std::string::npos) display.erase(0, slash + 1);
-  const std::size_t colon = display.rfind(':');
-  if (colon == std::string::npos) return false;
-  const std::string host = display.substr(0, colon);
-  char* end = nullptr;
-  const long number = std::strtol(display.c_str() + colon + 1, &end, 10);
-  if (end == display.c_str() + colon + 1 || number < 0 || number > 59535) return false;
-  if (host.empty() || host == "unix") {
-    const std::string path = "/tmp/.X11-unix/X" + std::to_string(number);
-    return unix_socket_connects(path, true) || unix_socket_connects(path, false);
-  }
-  return tcp_connects(host, 6000 + static_cast<int>(number));
-}
-
-// Empty when OpenCV can be asked for a window, else why not.
-std::string display_problem() {
-  const char* display = std::getenv("DISPLAY");
-  if (display != nullptr && display[0] != '\0') {
-    if (!x_server_answers(display))
-      return std::string("cannot connect to the X display \"") + display + "\"";
-    return "";
-  }
-  // Without DISPLAY, Qt reaches Wayland only through its Wayland platform plugin, and only when
-  // told to; if it is told to and the plugin is missing, that is the user's explicit choice.
-  const char* platform = std::getenv("QT_QPA_PLATFORM");
-  if (platform != nullptr && std::strstr(platform, "wayland") != nullptr) return "";
-  return "OpenCV's window needs an X display and DISPLAY is not set (for Wayland alone, set "
-         "QT_QPA_PLATFORM=wayland)";
-}
-
 void close_window() {
   if (g_title.empty()) return;
   const std::string title = g_title;
@@ -122,11 +45,6 @@ int mvox_live_window_api_version(void) { return MVOX_LIVE_WINDOW_API_VERSION; }
 
 int mvox_live_window_open(const char* title, char* error, size_t error_bytes) {
   close_window();
-  const std::string problem = display_problem();
-  if (!problem.empty()) {
-    write_error(error, error_bytes, problem);
-    return -1;
-  }
   try {
     const std::string name = title != nullptr && title[0] != '\0' ? title : "mvox";
     // GUI_NORMAL: without it Qt adds a toolbar of text buttons some 1500 pixels wide, which

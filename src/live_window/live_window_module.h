@@ -18,12 +18,14 @@ extern "C" {
 
 // Bumped whenever a signature or a contract below changes, so that mvox refuses a stale module
 // found on the library search path instead of calling it with the wrong arguments.
-#define MVOX_LIVE_WINDOW_API_VERSION 1
+#define MVOX_LIVE_WINDOW_API_VERSION 2
 
 // Returns MVOX_LIVE_WINDOW_API_VERSION as the module was built.
 MVOX_LIVE_WINDOW_EXPORT int mvox_live_window_api_version(void);
 
-// Opens the one window, titled `title` (UTF-8). Returns 0 on success. On failure returns -1 and
+// Opens the one window, titled `title` (UTF-8). The caller must have checked that the display
+// answers (mvox's display_probe.h; since version 2 the module does not): Qt ends the process on
+// a display it cannot reach. Returns 0 on success. On failure returns -1 and
 // writes a one-line reason without a final period into `error` (`error_bytes` long, always
 // terminated; `error` may be null when `error_bytes` is 0). Opening while a window is open
 // closes that one first.
