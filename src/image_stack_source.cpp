@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <new>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
@@ -16,6 +17,7 @@
 
 #include "error.h"
 #include "image_file_check.h"
+#include "jpeg_slice_decoder.h"
 
 namespace mvox {
 namespace {
@@ -107,6 +109,20 @@ cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes) {
   const std::string problem = image_file_problem(bytes.data(), bytes.size());
   if (!problem.empty()) throw Error(path, problem);
   cv::Mat image;
+  // JPEG is decoded strictly, without OpenCV, whose libjpeg returns damaged scans as good
+  // slices with only a warning on standard error (jpeg_slice_decoder.h).
+  if (is_jpeg_file(bytes.data(), bytes.size())) {
+    decode_jpeg_slice(
+        path, bytes.data(), bytes.size(), [&](std::uint32_t width, std::uint32_t height) {
+          try {
+            image.create(static_cast<int>(height), static_cast<int>(width), CV_8UC1);
+          } catch (const cv::Exception&) {
+            throw std::bad_alloc();  // OpenCV's only failure here; the decoder names the bytes
+          }
+          return image.data;
+        });
+    return image;
+  }
   // OpenCV reports a decoder's failure on std::cerr ("imdecode_(''): can't read data: ..."),
   // a line of its own; mvox gives the reason in its one error line instead. Only this thread
   // decodes (the prefetching reader), and mvox itself never writes to std::cerr (its messages
