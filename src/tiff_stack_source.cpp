@@ -18,6 +18,7 @@
 #include "compression_bounds.h"
 #include "error.h"
 #include "header_text.h"
+#include "tiff_predictor.h"
 
 namespace mvox {
 
@@ -441,7 +442,7 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
 }
 
 bool TiffStackSource::read_chunk(std::uint32_t index, bool deflate, unsigned char* out,
-                                 std::size_t out_bytes) {
+                                 std::size_t out_bytes, std::size_t row_samples) {
   TIFF* t = open_->handle;
   const bool tiled = TIFFIsTiled(t) != 0;
   if (!deflate) {
@@ -450,8 +451,8 @@ bool TiffStackSource::read_chunk(std::uint32_t index, bool deflate, unsigned cha
               : TIFFReadEncodedStrip(t, index, out, static_cast<tmsize_t>(out_bytes));
     return got == static_cast<tmsize_t>(out_bytes);
   }
-  // libtiff's deflate decoder stops once it has the samples, before the zlib checksum: the
-  // stored bytes are read here, checked whole, and then decoded by libtiff from this buffer.
+  // libtiff's deflate decoder stops once it has the samples, often before the zlib checksum:
+  // the stored bytes are read here and inflated whole, checksum included (zlib_stream_check.h).
   const std::string chunk =
       page_subject(page_in_file_) + ": " + (tiled ? "tile " : "strip ") + std::to_string(index);
   int error = 0;
@@ -466,23 +467,38 @@ bool TiffStackSource::read_chunk(std::uint32_t index, bool deflate, unsigned cha
                                  open_->take_error());
   }
   // Bits stored in reverse order (FillOrder 2) are put right before inflating, as libtiff
-  // does; TIFFReadFromUserBuffer reverses them itself, so they are put back after the check.
+  // does.
   std::uint16_t fill_order = FILLORDER_MSB2LSB;
   TIFFGetFieldDefaulted(t, TIFFTAG_FILLORDER, &fill_order);
   const bool reversed = fill_order == FILLORDER_LSB2MSB;
   if (reversed) TIFFReverseBits(raw_.data(), static_cast<tmsize_t>(stored));
   if (!deflate_check_) deflate_check_ = std::make_unique<ZlibStreamCheck>();
-  std::string problem;
+  ZlibStreamCheck::Result inflated;
   try {
-    problem = deflate_check_->problem(raw_.data(), static_cast<std::size_t>(stored));
+    inflated =
+        deflate_check_->inflate(raw_.data(), static_cast<std::size_t>(stored), out, out_bytes);
   } catch (const std::bad_alloc&) {
     throw Error(open_->path, "out of memory: cannot allocate zlib's state (about " +
                                  std::to_string(ZlibStreamCheck::kWorkingBytes) + " bytes)");
   }
-  if (reversed) TIFFReverseBits(raw_.data(), static_cast<tmsize_t>(stored));
-  if (!problem.empty()) {
-    throw Error(open_->path, chunk + ": corrupt deflate data (zlib: " + problem + ")");
+  if (!inflated.problem.empty()) {
+    throw Error(open_->path, chunk + ": corrupt deflate data (zlib: " + inflated.problem + ")");
   }
+  if (inflated.total < out_bytes) {
+    throw Error(open_->path, chunk + ": its deflate data hold " + std::to_string(inflated.total) +
+                                 " bytes, fewer than its " + std::to_string(out_bytes));
+  }
+  // What libtiff does after inflating: byte order and predictor.
+  const std::size_t bytes_per_sample = sample_bytes(info_.type);
+  std::uint16_t predictor = PREDICTOR_NONE;
+  TIFFGetFieldDefaulted(t, TIFFTAG_PREDICTOR, &predictor);
+  if (finish_tiff_samples(out, out_bytes / (row_samples * bytes_per_sample), row_samples,
+                          bytes_per_sample, TIFFIsByteSwapped(t) != 0, predictor)) {
+    return true;
+  }
+  // The floating-point predictor: libtiff decodes the checked bytes once more, from this buffer
+  // (with their bits back in stored order, which it reverses itself).
+  if (reversed) TIFFReverseBits(raw_.data(), static_cast<tmsize_t>(stored));
   return TIFFReadFromUserBuffer(t, index, raw_.data(), static_cast<tmsize_t>(stored), out,
                                 static_cast<tmsize_t>(out_bytes)) != 0;
 }
@@ -491,10 +507,10 @@ void TiffStackSource::read_page(std::vector<unsigned char>& buffer, std::uint16_
   TIFF* t = open_->handle;
   const std::string page = page_subject(page_in_file_);
   const bool deflate = is_deflate(compression);
-  // libtiff decodes a whole deflate strip or tile with libdeflate when it has it, and takes
-  // libdeflate's "insufficient space" as success, for writers that store more rows than a
-  // strip holds; but libdeflate leaves the end of the output unwritten then (zeros where
-  // samples belong). zlib fills it exactly. The checksum is checked here anyway.
+  // When libtiff decodes deflate itself (the floating-point predictor, read_chunk), it must not
+  // use libdeflate: libtiff takes libdeflate's "insufficient space" as success, for writers
+  // that store more rows than a strip holds, but libdeflate leaves the end of the output
+  // unwritten then (zeros where samples belong). zlib fills it exactly.
   if (deflate && !TIFFSetField(t, TIFFTAG_DEFLATE_SUBCODEC, DEFLATE_SUBCODEC_ZLIB)) {
     throw Error(open_->path,
                 page + ": libtiff cannot decode deflate with zlib" + open_->take_error());
@@ -510,7 +526,7 @@ void TiffStackSource::read_page(std::vector<unsigned char>& buffer, std::uint16_
     for (std::uint32_t row = 0; row < info_.height; row += rows_per_strip) {
       const std::uint32_t rows = std::min(rows_per_strip, info_.height - row);
       if (!read_chunk(TIFFComputeStrip(t, row, 0), deflate, buffer.data() + row * row_bytes,
-                      rows * row_bytes)) {
+                      rows * row_bytes, info_.width)) {
         throw Error(open_->path, page + ": cannot decode the strip at row " + std::to_string(row) +
                                      open_->take_error());
       }
@@ -533,7 +549,7 @@ void TiffStackSource::read_page(std::vector<unsigned char>& buffer, std::uint16_
   for (std::uint32_t y = 0; y < info_.height; y += tile_height) {
     for (std::uint32_t x = 0; x < info_.width; x += tile_width) {
       if (!read_chunk(TIFFComputeTile(t, x, y, 0, 0), deflate, tile_.data(),
-                      static_cast<std::size_t>(tile_bytes))) {
+                      static_cast<std::size_t>(tile_bytes), tile_width)) {
         throw Error(open_->path, page + ": cannot decode the tile at x " + std::to_string(x) +
                                      ", y " + std::to_string(y) + open_->take_error());
       }

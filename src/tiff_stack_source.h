@@ -53,9 +53,11 @@ class TiffStackSource : public SliceSource {
  private:
   void check_file(std::size_t file_index, std::uint64_t* pages);
   void read_page(std::vector<unsigned char>& buffer, std::uint16_t compression);
-  // Decodes strip or tile `index` of the current page into out[0, out_bytes); false when
-  // libtiff cannot. Deflate data are checked whole first (zlib_stream_check.h).
-  bool read_chunk(std::uint32_t index, bool deflate, unsigned char* out, std::size_t out_bytes);
+  // Decodes strip or tile `index` of the current page, rows of `row_samples` samples, into
+  // out[0, out_bytes); false when libtiff cannot. Deflate data are inflated whole here, so that
+  // their checksum is checked (zlib_stream_check.h), and throw when corrupt.
+  bool read_chunk(std::uint32_t index, bool deflate, unsigned char* out, std::size_t out_bytes,
+                  std::size_t row_samples);
 
   std::vector<std::string> files_;
   std::vector<std::uint64_t> pages_per_file_;  // counted by the constructor

@@ -1,11 +1,13 @@
 #pragma once
-// Checks whole zlib streams (RFC 1950) held in memory: inflates each to its end, so that its
-// Adler-32 checksum is verified, and keeps nothing of what it inflates.
+// Inflates whole zlib streams (RFC 1950) held in memory, to their end, so that their Adler-32
+// checksum is verified: the first bytes go where the caller wants them, the rest through a
+// small scratch buffer.
 //
 // Why: libtiff's deflate decoder stops as soon as it has the bytes a strip or tile should
-// hold, before the checksum at the end of the stream, so a strip whose data were damaged
-// (a flipped bit that still decodes) gives wrong samples without a word. mvox checks each
-// deflate strip or tile with this before libtiff decodes it.
+// hold, so it checks the checksum only when the stream happens to end there: a strip whose
+// stream holds more (a writer storing whole strips at the bottom of a page) and whose data
+// were damaged gives wrong samples without a word. mvox inflates deflate strips and tiles with
+// this instead.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -16,21 +18,27 @@ namespace mvox {
 
 class ZlibStreamCheck {
  public:
-  // Allocates nothing: zlib's state and the scratch buffer come with the first check.
+  // Allocates nothing: zlib's state and the scratch buffer come with the first stream.
   ZlibStreamCheck();
   ~ZlibStreamCheck();
   ZlibStreamCheck(const ZlibStreamCheck&) = delete;
   ZlibStreamCheck& operator=(const ZlibStreamCheck&) = delete;
 
-  // The problem with the zlib stream at bytes[0, size), or "" when it inflates to its end with
-  // a matching checksum. The problem is zlib's message ("incorrect data check", "invalid
-  // distance too far back", ...) or "the data end before the stream does". Bytes after the
+  struct Result {
+    // "" when the stream inflated to its end with a matching checksum; otherwise zlib's message
+    // ("incorrect data check", "invalid distance too far back", ...) or "the data end before
+    // the stream does".
+    std::string problem;
+    std::uint64_t total = 0;  // bytes inflated, all of them
+  };
+  // Inflates the zlib stream at bytes[0, size) to its end; the first `out_bytes` bytes it
+  // holds go to out[0, out_bytes) (fewer when it holds fewer: see `total`). Bytes after the
   // end of the stream are ignored, as zlib and libtiff ignore them. Throws std::bad_alloc when
   // zlib cannot get its state.
-  std::string problem(const unsigned char* bytes, std::size_t size);
+  Result inflate(const unsigned char* bytes, std::size_t size, unsigned char* out,
+                 std::size_t out_bytes);
 
-  // The most memory a check holds: the scratch buffer the output goes through, zlib's
-  // inflate state and its 32 KiB window.
+  // The most memory it holds: the scratch buffer, zlib's inflate state and its 32 KiB window.
   static constexpr std::uint64_t kWorkingBytes = 32 * 1024 + 8 * 1024 + 32 * 1024;
 
  private:

@@ -111,8 +111,9 @@ void write_page(TIFF* tiff, const void* pixels, std::uint32_t width, std::uint32
 template <typename T>
 void write_stack(const std::string& path, const std::vector<T>& samples, std::uint32_t width,
                  std::uint32_t height, std::uint32_t first_page, std::uint32_t page_count,
-                 const Layout& layout, const std::function<void(TIFF*)>& extra = {}) {
-  TIFF* tiff = TIFFOpen(path.c_str(), "w");
+                 const Layout& layout, const std::function<void(TIFF*)>& extra = {},
+                 const char* mode = "w") {
+  TIFF* tiff = TIFFOpen(path.c_str(), mode);
   ASSERT_NE(tiff, nullptr) << path;
   const std::size_t page_samples = std::size_t{width} * height;
   for (std::uint32_t page = first_page; page < first_page + page_count; ++page) {
@@ -482,22 +483,48 @@ TEST(TiffStack, ChecksumIsCheckedWhereLibtiffStopsShortOfIt) {
             std::vector<std::uint8_t>(rows.begin(), rows.begin() + kWidth * kHeight));
 }
 
-TEST(TiffStack, DeflateWithPredictorsAndBitReversalStillRoundTrips) {
-  // The checked path hands libtiff the stored bytes itself (TIFFReadFromUserBuffer): the
-  // predictors and FillOrder 2 must come out as through libtiff's own reading.
-  const std::vector<std::uint16_t> samples =
-      test::phantom_samples<std::uint16_t>(kWidth, kHeight, kDepth);
+// Deflate pages are inflated by mvox and finished by tiff_predictor.h (libtiff only for the
+// floating-point predictor): every sample type, byte order, predictor, fill order and layout
+// must come out as written.
+template <typename T>
+void expect_deflate_round_trips(SampleType type) {
+  const std::vector<T> samples = test::phantom_samples<T>(kWidth, kHeight, kDepth);
+  std::vector<std::uint16_t> predictors = {PREDICTOR_NONE, PREDICTOR_HORIZONTAL};
+  if (type == SampleType::f32) predictors.push_back(PREDICTOR_FLOATINGPOINT);
+  const Layout layouts[] = {
+      kLayouts[1],
+      {"tiled 16x16, deflate", true, 0, COMPRESSION_DEFLATE},
+      {"striped, 5 rows per strip, deflate", false, 5, COMPRESSION_ADOBE_DEFLATE}};
   ScratchDirectory dir;
-  write_stack(dir / "predictor.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[1],
-              [](TIFF* tiff) { TIFFSetField(tiff, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL); });
-  EXPECT_EQ(read_stack<std::uint16_t>({dir / "predictor.tif"}), samples);
-  write_stack(dir / "reversed.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[1],
-              [](TIFF* tiff) { TIFFSetField(tiff, TIFFTAG_FILLORDER, FILLORDER_LSB2MSB); });
-  EXPECT_EQ(read_stack<std::uint16_t>({dir / "reversed.tif"}), samples);
-  const std::vector<float> floats = test::phantom_samples<float>(kWidth, kHeight, kDepth);
-  write_stack(dir / "float.tif", floats, kWidth, kHeight, 0, kDepth, kLayouts[1],
-              [](TIFF* tiff) { TIFFSetField(tiff, TIFFTAG_PREDICTOR, PREDICTOR_FLOATINGPOINT); });
-  EXPECT_EQ(read_stack<float>({dir / "float.tif"}), floats);
+  for (const char* mode : {"wl", "wb"}) {
+    for (const std::uint16_t predictor : predictors) {
+      for (const std::uint16_t fill_order : {FILLORDER_MSB2LSB, FILLORDER_LSB2MSB}) {
+        // libtiff 4.5 does not read back its own big-endian floating-point predictor files
+        // (the floats come out byte-swapped), a case mvox leaves to libtiff.
+        if (predictor == PREDICTOR_FLOATINGPOINT && mode[1] == 'b') continue;
+        for (const Layout& layout : layouts) {
+          SCOPED_TRACE(std::string(sample_type_name(type)) + ", " + mode + ", predictor " +
+                       std::to_string(predictor) + ", fill order " + std::to_string(fill_order) +
+                       ", " + layout.name);
+          write_stack(
+              dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, layout,
+              [&](TIFF* tiff) {
+                TIFFSetField(tiff, TIFFTAG_PREDICTOR, predictor);
+                TIFFSetField(tiff, TIFFTAG_FILLORDER, fill_order);
+              },
+              mode);
+          EXPECT_EQ(read_stack<T>({dir / "stack.tif"}), samples);
+        }
+      }
+    }
+  }
+}
+
+TEST(TiffStack, DeflateRoundTripsInEveryByteOrderPredictorAndFillOrder) {
+  expect_deflate_round_trips<std::uint8_t>(SampleType::u8);
+  expect_deflate_round_trips<std::uint16_t>(SampleType::u16);
+  expect_deflate_round_trips<std::int16_t>(SampleType::i16);
+  expect_deflate_round_trips<float>(SampleType::f32);
 }
 
 TEST(TiffStack, HeadersDeclaringMoreThanTheirDataCanHoldAreRefusedBeforeAnySlice) {
