@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <limits>
 #include <new>
-#include <stdexcept>
 #include <utility>
 
 #include "compression_bounds.h"
@@ -458,6 +457,10 @@ bool TiffStackSource::read_chunk(std::uint32_t index, bool deflate, unsigned cha
   int error = 0;
   const std::uint64_t stored = TIFFGetStrileByteCountWithErr(t, index, &error);
   if (error) return false;
+  // The constructor saw every strip and tile; the file may have changed since.
+  if (stored > largest_deflate_chunk_) {
+    throw Error(open_->path, chunk + " changed since the stack was opened");
+  }
   grow_buffer(raw_, stored, open_->path, "the stored data of " + chunk);
   const tmsize_t got = tiled
                            ? TIFFReadRawTile(t, index, raw_.data(), static_cast<tmsize_t>(stored))
@@ -485,8 +488,9 @@ bool TiffStackSource::read_chunk(std::uint32_t index, bool deflate, unsigned cha
     throw Error(open_->path, chunk + ": corrupt deflate data (zlib: " + inflated.problem + ")");
   }
   if (inflated.total < out_bytes) {
-    throw Error(open_->path, chunk + ": its deflate data hold " + std::to_string(inflated.total) +
-                                 " bytes, fewer than its " + std::to_string(out_bytes));
+    throw Error(open_->path, chunk + ": its deflate data decode to " +
+                                 std::to_string(inflated.total) + " bytes, fewer than the " +
+                                 std::to_string(out_bytes) + " it holds");
   }
   // What libtiff does after inflating: byte order and predictor.
   const std::size_t bytes_per_sample = sample_bytes(info_.type);

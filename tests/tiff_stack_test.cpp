@@ -472,6 +472,20 @@ TEST(TiffStack, ChecksumIsCheckedWhereLibtiffStopsShortOfIt) {
   TIFFClose(tiff);
   EXPECT_EQ(error_of([&] { read_stack<std::uint8_t>({dir / "long.tif"}); }),
             dir / "long.tif: page 1: strip 0: corrupt deflate data (zlib: incorrect data check)");
+  // A whole stream, checksum right, that holds fewer rows than the strip.
+  write_file(dir / "short.tif",
+             test::tiff_file_bytes({{kWidth,
+                                     kHeight,
+                                     8,
+                                     COMPRESSION_ADOBE_DEFLATE,
+                                     0,
+                                     0,
+                                     0,
+                                     {test::zlib_compressed(filled(kWidth * 20, 9))}}}));
+  EXPECT_EQ(error_of([&] { read_stack<std::uint8_t>({dir / "short.tif"}); }),
+            dir /
+                "short.tif: page 1: strip 0: its deflate data decode to 740 bytes, fewer than "
+                "the 1073 it holds");
   // The same strip with its checksum intact is read.
   stream.back() ^= 0x40;
   write_file(
