@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -278,6 +279,52 @@ TEST(JpegSliceDecoder, AllocationFailureNamesTheBytes) {
         [&](std::uint32_t, std::uint32_t) -> unsigned char* { throw std::bad_alloc(); });
   });
   EXPECT_EQ(message, "slice.jpg: out of memory: cannot allocate 600 bytes for the 30x20 slice");
+}
+
+// The fuzzer's seeds (fuzz/corpus/jpeg_slice_decoder_fuzzer/), small files of every kind the
+// decoder meets, intact and damaged. MVOX_WRITE_FUZZ_SEEDS=DIR writes them into DIR; the test
+// checks what each committed seed must give.
+struct Seed {
+  std::string name;
+  Bytes bytes;
+  bool valid;  // decodes to what OpenCV gives; otherwise refused
+};
+
+std::vector<Seed> fuzz_seeds() {
+  const Bytes restarts = encode(test_image(17, 33, 11), {cv::IMWRITE_JPEG_RST_INTERVAL, 1});
+  const test::ScanData scan = test::first_scan_data(restarts);
+  return {
+      {"baseline_8x8.jpg", encode(test_image(8, 8, 10)), true},
+      {"restarts_17x33.jpg", restarts, true},
+      {"progressive_40x24.jpg", encode(test_image(40, 24, 12), {cv::IMWRITE_JPEG_PROGRESSIVE, 1}),
+       true},
+      {"optimized_q5_23x9.jpg",
+       encode(test_image(23, 9, 13), {cv::IMWRITE_JPEG_OPTIMIZE, 1, cv::IMWRITE_JPEG_QUALITY, 5}),
+       true},
+      {"cut_in_scan.jpg", test::cut_in_scan(restarts, (scan.end - scan.begin) / 2), false},
+      {"renumbered_restart.jpg", test::renumber_restart_marker(restarts), false},
+      {"colour_4x4.jpg", encode(cv::Mat(4, 4, CV_8UC3, cv::Scalar(10, 200, 30))), false},
+  };
+}
+
+TEST(JpegSliceDecoder, FuzzSeeds) {
+  const char* write_to = std::getenv("MVOX_WRITE_FUZZ_SEEDS");
+  for (const Seed& seed : fuzz_seeds()) {
+    SCOPED_TRACE(seed.name);
+    if (write_to) {
+      std::ofstream(fs::path(write_to) / seed.name, std::ios::binary)
+          .write(reinterpret_cast<const char*>(seed.bytes.data()),
+                 static_cast<std::streamsize>(seed.bytes.size()));
+    }
+    const fs::path committed = fs::path(MVOX_FUZZ_CORPUS) / "jpeg_slice_decoder_fuzzer" / seed.name;
+    std::ifstream in(committed, std::ios::binary);
+    ASSERT_TRUE(in) << committed << " is missing";
+    const Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (seed.valid)
+      expect_same_as_opencv(bytes);
+    else
+      EXPECT_EQ(refusal_of(bytes).rfind("slice.jpg: ", 0), 0u);
+  }
 }
 
 }  // namespace
