@@ -50,6 +50,65 @@ for size in sys.argv[2:]:
 open(sys.argv[1], "wb").write(out)
 EOF_PY
 
+# make_odd_tiff.py FILE KIND: 12x10 8-bit TIFFs whose headers or data lie. KIND is
+# bad-checksum (8 deflate pages, the zlib checksum of page 6 wrong), huge-tiles (one 65536x65536
+# tile for the 12x10 image) or huge-page (30000x30000 declared by a 17-byte deflate strip).
+cat > "$work/make_odd_tiff.py" << 'EOF_PY'
+import struct, sys, zlib
+def tiff(pages):
+    out = bytearray(b"II*\x00" + struct.pack("<I", 0))
+    link = 4
+    for w, h, data, tile in pages:
+        offset = len(out)
+        out += data + b"\x00" * (len(data) % 2)
+        struct.pack_into("<I", out, link, len(out))
+        tags = [(256, 4, w), (257, 4, h), (258, 3, 8), (259, 3, 8), (262, 3, 1), (277, 3, 1)]
+        if tile:
+            tags += [(322, 4, tile), (323, 4, tile), (324, 4, offset), (325, 4, len(data))]
+        else:
+            tags += [(273, 4, offset), (278, 4, h), (279, 4, len(data))]
+        tags.sort()
+        out += struct.pack("<H", len(tags))
+        for tag, kind, value in tags:
+            packed = struct.pack("<HH", value, 0) if kind == 3 else struct.pack("<I", value)
+            out += struct.pack("<HHI", tag, kind, 1) + packed
+        link = len(out)
+        out += struct.pack("<I", 0)
+    return out
+kind = sys.argv[2]
+if kind == "bad-checksum":
+    pages = [(12, 10, bytearray(zlib.compress(bytes([200 if 1 < z < 6 else 0] * 120))), 0)
+             for z in range(8)]
+    pages[5][2][-1] ^= 1
+elif kind == "huge-tiles":
+    pages = [(12, 10, zlib.compress(bytes(200)), 65536)]
+else:
+    pages = [(30000, 30000, zlib.compress(bytes(1000)), 0)]
+open(sys.argv[1], "wb").write(tiff(pages))
+EOF_PY
+
+# damage_jpeg.py FILE cut|junk: cuts the JPEG's scan in the middle and closes it with an
+# end-of-image marker, or inserts junk restart markers (FF D5 FF D2) into the middle of it.
+cat > "$work/damage_jpeg.py" << 'EOF_PY'
+import sys
+data = bytearray(open(sys.argv[1], "rb").read())
+at = 2
+while data[at + 1] != 0xDA:
+    at += 2 + (data[at + 2] << 8 | data[at + 3])
+begin = at + 2 + (data[at + 2] << 8 | data[at + 3])
+end = begin
+while not (data[end] == 0xFF and data[end + 1] != 0 and not 0xD0 <= data[end + 1] <= 0xD7):
+    end += 1
+middle = (begin + end) // 2
+while data[middle - 1] == 0xFF:
+    middle -= 1
+if sys.argv[2] == "cut":
+    data = data[:middle] + b"\xff\xd9"
+else:
+    data[middle:middle] = b"\xff\xd5\xff\xd2"
+open(sys.argv[1], "wb").write(data)
+EOF_PY
+
 # The directory every case starts from: an 8-slice 12x10 stack, and the previous outputs.
 template=$work/template
 mkdir -p "$template"
@@ -376,6 +435,18 @@ tour "out of memory mid-run (ulimit -v, --max-memory none)" "truncate -s 9600000
   "(ulimit -v 300000; mvox extract large.raw --raw 4000x4000x3:u16le -t 1 --max-memory none $outputs)"
 tour "TIFF stack: a page of another size" "python3 $work/make_tiff.py pages.tif 12x10 12x10 14x10" \
   "mvox extract pages.tif -t 10 $outputs"
+tour "TIFF stack: deflate strip failing its checksum" \
+  "python3 $work/make_odd_tiff.py stack.tif bad-checksum" "mvox extract stack.tif -t 10 $outputs"
+tour "TIFF: 65536x65536 tiles for a 12x10 image (146 bytes)" \
+  "python3 $work/make_odd_tiff.py tiles.tif huge-tiles" "mvox extract tiles.tif -t 10 $outputs"
+tour "TIFF: a 30000x30000 page in a 140-byte deflate file" \
+  "python3 $work/make_odd_tiff.py page.tif huge-page" "mvox extract page.tif -t 10 $outputs"
+# JPEG slices: pictures of the sphere that mvox itself writes with OpenCV.
+jpegs="mvox extract stack -t 128 -o sphere.ply --image sphere.jpg --image-size 64x48 -q; mkdir jpegs; cp sphere.jpg jpegs/slice_1.jpg; cp sphere.jpg jpegs/slice_2.jpg"
+tour "JPEG slice cut mid-scan and closed with FF D9" \
+  "$jpegs; python3 $work/damage_jpeg.py jpegs/slice_2.jpg cut" "mvox extract jpegs -t 128 $outputs"
+tour "JPEG slice with junk restart markers in its scan" \
+  "$jpegs; python3 $work/damage_jpeg.py jpegs/slice_2.jpg junk" "mvox extract jpegs -t 128 $outputs"
 dicom=$repo/../shared/datasets/dicom_mr_bbmri_6slices
 if [ -d "$dicom" ]; then
   tour "DICOM: a slice file cut short" \

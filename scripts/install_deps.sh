@@ -11,6 +11,7 @@ packages=(
   libglm-dev                                                        # vector math (header-only)
   zlib1g-dev                                                        # gzip NRRD and compressed MetaImage volumes
   libtiff-dev                                                       # multi-page TIFF stacks, read page by page
+  libjpeg-dev                                                       # JPEG slices, decoded strictly (libjpeg62-turbo)
   libgdcm-dev                                                       # DICOM series (GDCM)
   libcli11-dev                                                      # command-line parsing
   googletest libgtest-dev                                           # tests

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <new>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
@@ -19,6 +20,7 @@
 #include "image_file_check.h"
 #include "image_header.h"
 #include "slice_image_writer.h"
+#include "jpeg_slice_decoder.h"
 
 namespace mvox {
 namespace {
@@ -139,6 +141,20 @@ cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes,
   if (const std::optional<ImageHeader> header = parse_image_header(bytes.data(), bytes.size()))
     check_header(path, *header, info, first);
   cv::Mat image;
+  // JPEG is decoded strictly, without OpenCV, whose libjpeg returns damaged scans as good
+  // slices with only a warning on standard error (jpeg_slice_decoder.h).
+  if (is_jpeg_file(bytes.data(), bytes.size())) {
+    decode_jpeg_slice(
+        path, bytes.data(), bytes.size(), [&](std::uint32_t width, std::uint32_t height) {
+          try {
+            image.create(static_cast<int>(height), static_cast<int>(width), CV_8UC1);
+          } catch (const cv::Exception&) {
+            throw std::bad_alloc();  // OpenCV's only failure here; the decoder names the bytes
+          }
+          return image.data;
+        });
+    return image;
+  }
   // OpenCV reports a decoder's failure on std::cerr ("imdecode_(''): can't read data: ..."),
   // a line of its own; mvox gives the reason in its one error line instead. Only this thread
   // decodes (the prefetching reader), and mvox itself never writes to std::cerr (its messages

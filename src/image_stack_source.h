@@ -1,5 +1,6 @@
 #pragma once
-// Reads a volume stored as one grayscale image per slice (PNG, TIFF, JPEG, BMP, PGM) via OpenCV.
+// Reads a volume stored as one grayscale image per slice (PNG, TIFF, JPEG, BMP, PGM) via OpenCV;
+// JPEG via libjpeg directly, strictly (jpeg_slice_decoder.h).
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
@@ -25,8 +26,10 @@
 #include "mesh_topology.h"
 #include "raw_volume_source.h"
 #include "slice_source_factory.h"
+#include "tiff_bytes.h"
 #include "tiff_stack_source.h"
 #include "volume_samples.h"
+#include "zlib_stream_check.h"
 
 namespace fs = std::filesystem;
 
@@ -108,8 +111,9 @@ void write_page(TIFF* tiff, const void* pixels, std::uint32_t width, std::uint32
 template <typename T>
 void write_stack(const std::string& path, const std::vector<T>& samples, std::uint32_t width,
                  std::uint32_t height, std::uint32_t first_page, std::uint32_t page_count,
-                 const Layout& layout, const std::function<void(TIFF*)>& extra = {}) {
-  TIFF* tiff = TIFFOpen(path.c_str(), "w");
+                 const Layout& layout, const std::function<void(TIFF*)>& extra = {},
+                 const char* mode = "w") {
+  TIFF* tiff = TIFFOpen(path.c_str(), mode);
   ASSERT_NE(tiff, nullptr) << path;
   const std::size_t page_samples = std::size_t{width} * height;
   for (std::uint32_t page = first_page; page < first_page + page_count; ++page) {
@@ -395,6 +399,286 @@ TEST(TiffStack, RefusesTruncatedFilesBeforeReadingASlice) {
   move_first_strip(dir / "strip.tif", 2, static_cast<std::uint32_t>(size + 1000));
   EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "strip.tif"}); }),
                   dir / "strip.tif: page 3: strip 0 ends at byte ");
+}
+
+void write_file(const std::string& path, const std::vector<unsigned char>& bytes) {
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+}
+
+std::vector<unsigned char> filled(std::size_t size, unsigned char value) {
+  return std::vector<unsigned char>(size, value);
+}
+
+// Flips the last stored byte (the end of the zlib checksum) of strip or tile `index` of page
+// `page` (0-based), which libtiff's deflate decoder never looks at.
+void damage_checksum(const std::string& path, int page, std::uint32_t index) {
+  TIFF* tiff = TIFFOpen(path.c_str(), "r");
+  ASSERT_NE(tiff, nullptr);
+  ASSERT_TRUE(TIFFSetDirectory(tiff, static_cast<tdir_t>(page)));
+  const std::uint64_t end = TIFFGetStrileOffset(tiff, index) + TIFFGetStrileByteCount(tiff, index);
+  TIFFClose(tiff);
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  file.seekg(static_cast<std::streamoff>(end - 1));
+  const char last = static_cast<char>(file.get());
+  file.seekp(static_cast<std::streamoff>(end - 1));
+  file.put(static_cast<char>(last ^ 0x40));
+  ASSERT_TRUE(file.good());
+}
+
+TEST(TiffStack, DeflateDataFailingTheirChecksumAreRefusedNamingPageAndStripOrTile) {
+  const std::vector<std::uint8_t> samples =
+      test::phantom_samples<std::uint8_t>(kWidth, kHeight, kDepth);
+  ScratchDirectory dir;
+  // One row per strip: strip 20 of page 3.
+  write_stack(dir / "striped.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[1]);
+  damage_checksum(dir / "striped.tif", 2, 20);
+  EXPECT_EQ(
+      error_of([&] { read_stack<std::uint8_t>({dir / "striped.tif"}); }),
+      dir / "striped.tif: page 3: strip 20: corrupt deflate data (zlib: incorrect data check)");
+
+  // Tiled, Adobe's and the old deflate code alike; tile 3 of page 6.
+  for (const std::uint16_t compression : {COMPRESSION_ADOBE_DEFLATE, COMPRESSION_DEFLATE}) {
+    SCOPED_TRACE(compression);
+    const Layout tiled{"tiled 16x16, deflate", true, 0, compression};
+    write_stack(dir / "tiled.tif", samples, kWidth, kHeight, 0, kDepth, tiled);
+    EXPECT_EQ(read_stack<std::uint8_t>({dir / "tiled.tif"}), samples);
+    damage_checksum(dir / "tiled.tif", 5, 3);
+    EXPECT_EQ(error_of([&] { read_stack<std::uint8_t>({dir / "tiled.tif"}); }),
+              dir / "tiled.tif: page 6: tile 3: corrupt deflate data (zlib: incorrect data check)");
+  }
+}
+
+TEST(TiffStack, ChecksumIsCheckedWhereLibtiffStopsShortOfIt) {
+  // A strip whose stream holds more rows than the strip (some writers store whole strips at
+  // the bottom of a page): libtiff decodes the rows it wants and stops (libdeflate's
+  // "insufficient space", which it accepts on purpose), never reaching the checksum. Where the
+  // stream ends with the strip, libtiff does check it (tested above with mvox's message).
+  std::vector<unsigned char> rows(kWidth * (kHeight + 3));
+  for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<unsigned char>(i * 7);
+  std::vector<unsigned char> stream = test::zlib_compressed(rows);
+  stream.back() ^= 0x40;
+  ScratchDirectory dir;
+  write_file(
+      dir / "long.tif",
+      test::tiff_file_bytes({{kWidth, kHeight, 8, COMPRESSION_ADOBE_DEFLATE, 0, 0, 0, {stream}}}));
+  TIFF* tiff = TIFFOpen((dir / "long.tif").c_str(), "r");
+  ASSERT_NE(tiff, nullptr);
+  std::vector<unsigned char> strip(kWidth * kHeight);
+  EXPECT_EQ(TIFFReadEncodedStrip(tiff, 0, strip.data(), static_cast<tmsize_t>(strip.size())),
+            static_cast<tmsize_t>(strip.size()))
+      << "libtiff no longer takes this strip: the case needs another example";
+  TIFFClose(tiff);
+  EXPECT_EQ(error_of([&] { read_stack<std::uint8_t>({dir / "long.tif"}); }),
+            dir / "long.tif: page 1: strip 0: corrupt deflate data (zlib: incorrect data check)");
+  // A whole stream, checksum right, that holds fewer rows than the strip.
+  write_file(dir / "short.tif",
+             test::tiff_file_bytes({{kWidth,
+                                     kHeight,
+                                     8,
+                                     COMPRESSION_ADOBE_DEFLATE,
+                                     0,
+                                     0,
+                                     0,
+                                     {test::zlib_compressed(filled(kWidth * 20, 9))}}}));
+  EXPECT_EQ(error_of([&] { read_stack<std::uint8_t>({dir / "short.tif"}); }),
+            dir /
+                "short.tif: page 1: strip 0: its deflate data decode to 740 bytes, fewer than "
+                "the 1073 it holds");
+  // The same strip with its checksum intact is read.
+  stream.back() ^= 0x40;
+  write_file(
+      dir / "long.tif",
+      test::tiff_file_bytes({{kWidth, kHeight, 8, COMPRESSION_ADOBE_DEFLATE, 0, 0, 0, {stream}}}));
+  // (libtiff with libdeflate leaves the last bytes of such a strip zero: mvox has libtiff
+  // decode deflate with zlib.)
+  EXPECT_EQ(read_stack<std::uint8_t>({dir / "long.tif"}),
+            std::vector<std::uint8_t>(rows.begin(), rows.begin() + kWidth * kHeight));
+}
+
+// Deflate pages are inflated by mvox and finished by tiff_predictor.h (libtiff only for the
+// floating-point predictor): every sample type, byte order, predictor, fill order and layout
+// must come out as written.
+template <typename T>
+void expect_deflate_round_trips(SampleType type) {
+  const std::vector<T> samples = test::phantom_samples<T>(kWidth, kHeight, kDepth);
+  std::vector<std::uint16_t> predictors = {PREDICTOR_NONE, PREDICTOR_HORIZONTAL};
+  if (type == SampleType::f32) predictors.push_back(PREDICTOR_FLOATINGPOINT);
+  const Layout layouts[] = {
+      kLayouts[1],
+      {"tiled 16x16, deflate", true, 0, COMPRESSION_DEFLATE},
+      {"striped, 5 rows per strip, deflate", false, 5, COMPRESSION_ADOBE_DEFLATE}};
+  ScratchDirectory dir;
+  for (const char* mode : {"wl", "wb"}) {
+    for (const std::uint16_t predictor : predictors) {
+      for (const std::uint16_t fill_order : {FILLORDER_MSB2LSB, FILLORDER_LSB2MSB}) {
+        // libtiff 4.5 does not read back its own big-endian floating-point predictor files
+        // (the floats come out byte-swapped), a case mvox leaves to libtiff.
+        if (predictor == PREDICTOR_FLOATINGPOINT && mode[1] == 'b') continue;
+        for (const Layout& layout : layouts) {
+          SCOPED_TRACE(std::string(sample_type_name(type)) + ", " + mode + ", predictor " +
+                       std::to_string(predictor) + ", fill order " + std::to_string(fill_order) +
+                       ", " + layout.name);
+          write_stack(
+              dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, layout,
+              [&](TIFF* tiff) {
+                TIFFSetField(tiff, TIFFTAG_PREDICTOR, predictor);
+                TIFFSetField(tiff, TIFFTAG_FILLORDER, fill_order);
+              },
+              mode);
+          EXPECT_EQ(read_stack<T>({dir / "stack.tif"}), samples);
+        }
+      }
+    }
+  }
+}
+
+TEST(TiffStack, DeflateRoundTripsInEveryByteOrderPredictorAndFillOrder) {
+  expect_deflate_round_trips<std::uint8_t>(SampleType::u8);
+  expect_deflate_round_trips<std::uint16_t>(SampleType::u16);
+  expect_deflate_round_trips<std::int16_t>(SampleType::i16);
+  expect_deflate_round_trips<float>(SampleType::f32);
+}
+
+TEST(TiffStack, HeadersDeclaringMoreThanTheirDataCanHoldAreRefusedBeforeAnySlice) {
+  ScratchDirectory dir;
+  const auto refusal = [&](const test::TiffPageBytes& page) {
+    write_file(dir / "lying.tif", test::tiff_file_bytes({page}));
+    return error_of([&] { TiffStackSource source({dir / "lying.tif"}); });
+  };
+  const std::vector<unsigned char> tiny_deflate = test::zlib_compressed(filled(100, 7));
+  const std::string lying = dir / "lying.tif: page 1";
+
+  test::TiffPageBytes page{30000, 30000, 8, COMPRESSION_ADOBE_DEFLATE, 0, 0, 0, {tiny_deflate}};
+  EXPECT_EQ(refusal(page),
+            lying + ": strip 0 declares 900000000 bytes (30000 rows of 30000 " +
+                "8-bit unsigned samples) but stores " + std::to_string(tiny_deflate.size()) +
+                " bytes of deflate data, which decode to at most 1032 times as many");
+
+  // Uncompressed: exactly.
+  // (libtiff itself replaces the byte counts when the first two strips differ.)
+  page = {200, 300, 16, COMPRESSION_NONE, 100, 0, 0, {filled(40000, 1), filled(40000, 1), {}}};
+  page.chunks[2] = filled(39999, 1);
+  EXPECT_EQ(refusal(page), lying + ": strip 2 declares 40000 bytes (100 rows of 200 16-bit " +
+                               "unsigned samples) but stores 39999 bytes of uncompressed data");
+
+  // PackBits, tiled.
+  page = {1000, 1000, 8, COMPRESSION_PACKBITS, 0, 1024, 1024, {filled(100, 0x81)}};
+  EXPECT_EQ(refusal(page), lying + ": tile 0 declares 1048576 bytes (1024x1024 8-bit unsigned " +
+                               "samples) but stores 100 bytes of PackBits data, which decode to " +
+                               "at most 64 times as many");
+
+  // Each of 20000 strips is within what a stream's overhead allows, but not all of them.
+  page = {20000, 20000, 8, COMPRESSION_ADOBE_DEFLATE, 1, 0, 0, {}};
+  page.chunks.assign(20000, tiny_deflate);
+  EXPECT_EQ(refusal(page),
+            lying + " declares 400000000 bytes (20000x20000 8-bit unsigned " +
+                "samples) in 20000 strips but stores " +
+                std::to_string(20000 * tiny_deflate.size()) +
+                " bytes of deflate data, which decode to at most 1032 times as many");
+
+  // Sizes whose products would wrap round 2^64 are refused, here by libtiff already.
+  page = {0xffffffff, 0xffffffff, 16, COMPRESSION_ADOBE_DEFLATE, 0, 0, 0, {tiny_deflate}};
+  EXPECT_EQ(refusal(page).rfind(dir / "lying.tif: ", 0), 0u);
+}
+
+TEST(TiffStack, TilesFarLargerThanTheImageAreRefusedCommonOnesAreRead) {
+  ScratchDirectory dir;
+  // 12x10 samples in a 256x256 tile, as writers with one fixed tile size store small images.
+  std::vector<unsigned char> tile(256 * 256, 0xee);
+  std::vector<std::uint8_t> expected;
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 12; ++x)
+      expected.push_back(tile[y * 256 + x] = static_cast<unsigned char>(y * 12 + x));
+  write_file(
+      dir / "fixed.tif",
+      test::tiff_file_bytes(
+          {{12, 10, 8, COMPRESSION_ADOBE_DEFLATE, 0, 256, 256, {test::zlib_compressed(tile)}}}));
+  EXPECT_EQ(read_stack<std::uint8_t>({dir / "fixed.tif"}), expected);
+  // 4096x4096 whatever the image.
+  write_file(
+      dir / "large.tif",
+      test::tiff_file_bytes({{12,
+                              10,
+                              8,
+                              COMPRESSION_ADOBE_DEFLATE,
+                              0,
+                              4096,
+                              4096,
+                              {test::zlib_compressed(std::vector<unsigned char>(4096 * 4096))}}}));
+  EXPECT_EQ(read_stack<std::uint8_t>({dir / "large.tif"}), std::vector<std::uint8_t>(120, 0));
+
+  // A ~250-byte file declaring 65536x65536 tiles: 4 GiB for one tile.
+  write_file(dir / "huge.tif", test::tiff_file_bytes({{12,
+                                                       10,
+                                                       8,
+                                                       COMPRESSION_ADOBE_DEFLATE,
+                                                       0,
+                                                       65536,
+                                                       65536,
+                                                       {test::zlib_compressed(filled(200, 3))}}}));
+  EXPECT_EQ(error_of([&] { TiffStackSource source({dir / "huge.tif"}); }),
+            dir /
+                "huge.tif: page 1: its 65536x65536 tiles are far larger than the 12x10 image (a "
+                "tile may hold the image rounded up to multiples of 16, or 4096x4096 samples)");
+  // Just over the rule on a large image: one tile more than the image rounded up to 16 rows.
+  write_file(
+      dir / "tall.tif",
+      test::tiff_file_bytes({{5000, 5000, 8, COMPRESSION_NONE, 0, 5008, 5024, {filled(100, 0)}}}));
+  EXPECT_CONTAINS(error_of([&] { TiffStackSource source({dir / "tall.tif"}); }),
+                  "page 1: its 5008x5024 tiles are far larger than the 5000x5000 image");
+}
+
+TEST(TiffStack, BuffersComeWithTheFirstSliceAndWorkingBytesBoundThem) {
+  ScratchDirectory dir;
+  // Zstandard has no expansion bound: a header declaring 2^31 x 2^30 16-bit samples passes
+  // the directory walk, which allocates nothing for it; the slice buffer is asked for with the
+  // first slice, and fails as an mvox::Error, not a std::bad_alloc.
+  if (!TIFFIsCODECConfigured(COMPRESSION_ZSTD)) GTEST_SKIP() << "this libtiff has no Zstandard";
+  write_file(dir / "zstd.tif",
+             test::tiff_file_bytes(
+                 {{0x80000000u, 0x40000000u, 16, COMPRESSION_ZSTD, 0, 0, 0, {filled(64, 1)}}}));
+  TiffStackSource source({dir / "zstd.tif"});
+  EXPECT_EQ(source.working_bytes(), (std::uint64_t{1} << 62) + 1024);
+  SliceView slice;
+  EXPECT_EQ(error_of([&] { source.next_slice(&slice); }),
+            dir /
+                "zstd.tif: out of memory: cannot allocate 4611686018427387904 bytes for the "
+                "2147483648x1073741824 slice");
+}
+
+TEST(TiffStack, WorkingBytesAddUpTheBuffersOfTheLargestPage) {
+  const std::vector<std::uint16_t> samples =
+      test::phantom_samples<std::uint16_t>(kWidth, kHeight, kDepth);
+  const std::uint64_t slice = kWidth * kHeight * 2;
+  ScratchDirectory dir;
+  // The largest stored strip or tile, from libtiff.
+  const auto largest_chunk = [](const std::string& path) {
+    std::uint64_t largest = 0;
+    TIFF* tiff = TIFFOpen(path.c_str(), "r");
+    do {
+      const std::uint32_t count =
+          TIFFIsTiled(tiff) ? TIFFNumberOfTiles(tiff) : TIFFNumberOfStrips(tiff);
+      for (std::uint32_t i = 0; i < count; ++i)
+        largest = std::max(largest, TIFFGetStrileByteCount(tiff, i));
+    } while (TIFFReadDirectory(tiff));
+    TIFFClose(tiff);
+    return largest;
+  };
+  for (const Layout& layout : kLayouts) {
+    SCOPED_TRACE(layout.name);
+    write_stack(dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, layout);
+    TiffStackSource source({dir / "stack.tif"});
+    std::uint64_t expected = slice + (layout.tiled ? 16 * 16 * 2 : 0);
+    const std::uint64_t chunk = largest_chunk(dir / "stack.tif");
+    if (layout.compression == COMPRESSION_ADOBE_DEFLATE)
+      expected += chunk + ZlibStreamCheck::kWorkingBytes;
+    else if (layout.compression != COMPRESSION_NONE)
+      expected += (chunk + 1023) / 1024 * 1024;
+    EXPECT_EQ(source.working_bytes(), expected);
+    EXPECT_EQ(test::read_samples<std::uint16_t>(source), samples);
+  }
 }
 
 TEST(TiffStack, MultiPageTiffAmongOtherImagesIsRefused) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -120,7 +121,9 @@ MvoxProcess::Ending MvoxProcess::finish() {
   }
   // ... then its status.
   int status = 0;
-  if (pid_ > 0 && ::waitpid(pid_, &status, 0) == pid_) {
+  struct rusage usage {};
+  if (pid_ > 0 && ::wait4(pid_, &status, 0, &usage) == pid_) {
+    ending.peak_memory_kib = usage.ru_maxrss;
     if (WIFEXITED(status)) ending.exit_code = WEXITSTATUS(status);
     if (WIFSIGNALED(status)) ending.signal = WTERMSIG(status);
   }

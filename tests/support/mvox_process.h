@@ -30,9 +30,10 @@ class MvoxProcess {
   void close_stdout();  // what `head -c N` does once it has its bytes
 
   struct Ending {
-    int exit_code = -1;  // when it exited
-    int signal = 0;      // when it was killed by a signal
-    std::string errors;  // standard error (and standard output unless own_stdout)
+    int exit_code = -1;        // when it exited
+    int signal = 0;            // when it was killed by a signal
+    std::string errors;        // standard error (and standard output unless own_stdout)
+    long peak_memory_kib = 0;  // mvox's peak resident memory (its ru_maxrss), in KiB
   };
   // Waits for the end, reading standard error meanwhile; after 60 s the process is killed and
   // the test fails.

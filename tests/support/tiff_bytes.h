@@ -1,0 +1,28 @@
+#pragma once
+// Test support: TIFF files written byte by byte (little-endian classic TIFF), for headers that
+// libtiff's writer would not produce: tiles far larger than the image, a page far larger than
+// its data, strips whose stored bytes are damaged.
+#include <cstdint>
+#include <vector>
+
+namespace mvox::test {
+
+// One page of one-channel min-is-black samples.
+struct TiffPageBytes {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::uint16_t bits = 8;
+  std::uint16_t compression = 1;     // TIFF's Compression tag: 1 none, 8 deflate, ...
+  std::uint32_t rows_per_strip = 0;  // striped pages; 0: the whole page in one strip
+  std::uint32_t tile_width = 0;      // tiled pages, when both are set
+  std::uint32_t tile_height = 0;
+  std::vector<std::vector<unsigned char>> chunks;  // the strips or tiles, as stored
+};
+
+// The bytes of a TIFF file holding `pages`, each chunk stored as given.
+std::vector<unsigned char> tiff_file_bytes(const std::vector<TiffPageBytes>& pages);
+
+// `bytes` as one zlib stream (TIFF's deflate compression).
+std::vector<unsigned char> zlib_compressed(const std::vector<unsigned char>& bytes);
+
+}  // namespace mvox::test
