@@ -42,7 +42,7 @@ bool RawSlicesSource::next_slice(SliceView* slice) {
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
   file.read_at(0, buffer_.data(), buffer_.size());
-  *slice = native_slice_view(buffer_, format_);
+  *slice = native_slice_view(buffer_.data(), format_);
   ++next_index_;
   return true;
 }
