@@ -141,14 +141,25 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   {
     ProgressLine progress("extracting", report.volume.depth,
                           !job.quiet && ProgressLine::stderr_is_terminal());
+    // Called after every slice, so only when it has something to do: a call and its timing
+    // cost more than a slice of a few voxels takes to extract.
+    SliceProgress after_slice;
+    if (progress.enabled() || (picture && picture->follows_slices()))
+      after_slice = [&](std::uint32_t done) {
+        progress.update(done);
+        if (picture) picture->after_slice(done);
+      };
     // Reading overlaps extraction from here on; the read time reported is the time spent
     // waiting for a slice.
     PrefetchingSource prefetched(source);
     report.result = run_pipeline(prefetched, job.threshold, engine, sinks, job.input_label,
-                                 [&](std::uint32_t done) {
-                                   progress.update(done);
-                                   if (picture) picture->after_slice(done);
-                                 });
+                                 after_slice, [&] { return prefetched.seconds_waiting(); });
+  }
+  if (picture) {
+    // Frames and the window's updates happened between slices: rendering, not extraction.
+    const double following = picture->seconds_following();
+    report.result.times.render_s += following;
+    report.result.times.extract_s -= following;
   }
   if (report.result.status == Status::sink_refused && writer && writer->error())
     throw *writer->error();

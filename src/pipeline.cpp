@@ -82,7 +82,8 @@ PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineO
 
 PipelineResult run_pipeline(SliceSource& source, double threshold,
                             const EngineOptions& requested_options, const PipelineSinks& sinks,
-                            const std::string& input_label, const SliceProgress& progress) {
+                            const std::string& input_label, const SliceProgress& progress,
+                            const SourceSeconds& source_seconds) {
   const VolumeInfo& info = source.info();
   EngineOptions options = requested_options;
   if (sinks.render) options.polygon_geometry = true;
@@ -100,21 +101,13 @@ PipelineResult run_pipeline(SliceSource& source, double threshold,
     throw Error(input_label, std::string("cannot start: ") + status_message(init));
 
   TimedSource timed_source(source);
+  SliceSource& streamed = source_seconds ? source : timed_source;
   const auto start = Clock::now();
-  // Progress callbacks (frames of the picture, a live window) count as rendering.
-  double progress_seconds = 0;
-  SliceProgress timed_progress;
-  if (progress)
-    timed_progress = [&](std::uint32_t slices_done) {
-      const auto progress_start = Clock::now();
-      progress(slices_done);
-      progress_seconds += seconds_since(progress_start);
-    };
-  result.status = stream_volume(timed_source, engine, timed_progress, sinks.window);
+  result.status = stream_volume(streamed, engine, progress, sinks.window);
   result.times.total_s = seconds_since(start);
-  result.times.read_s = timed_source.seconds;
+  result.times.read_s = source_seconds ? source_seconds() : timed_source.seconds;
   result.times.write_s = timed_sink.mesh_seconds;
-  result.times.render_s = timed_sink.render_seconds + progress_seconds;
+  result.times.render_s = timed_sink.render_seconds;
   result.times.extract_s =
       result.times.total_s - result.times.read_s - result.times.write_s - result.times.render_s;
   result.counters = engine.counters();

@@ -124,6 +124,13 @@ void PrefetchingSource::read_ahead() {
 }
 
 bool PrefetchingSource::wait_for_slice(SliceView* slice) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  struct AddTime {  // on every way out, the rethrow included
+    Clock::time_point start;
+    double& seconds;
+    ~AddTime() { seconds += std::chrono::duration<double>(Clock::now() - start).count(); }
+  } add_time{start, seconds_waiting_};
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     Batch& batch = batches_[taking_];

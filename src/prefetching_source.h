@@ -54,6 +54,11 @@ class PrefetchingSource final : public SliceSource {
   // The inner source's working memory and the two batches; 0 when the inner source cannot tell.
   std::uint64_t working_bytes() const override;
 
+  // Seconds next_slice() has spent waiting for the reader so far (caller thread only). Only calls
+  // that find no slice ready can wait, so only those are timed: timing every call would cost two
+  // clock readings per slice, more than a slice of a few voxels takes to extract.
+  double seconds_waiting() const { return seconds_waiting_; }
+
   // Slices of `slice_bytes` in one batch of at most `batch_bytes`: at least one.
   static std::size_t slices_per_batch(std::size_t batch_bytes, std::size_t slice_bytes) {
     const std::size_t fit = slice_bytes == 0 ? batch_bytes : batch_bytes / slice_bytes;
@@ -96,6 +101,7 @@ class PrefetchingSource final : public SliceSource {
   std::condition_variable changed_;
   int taking_ = 0;         // the batch the caller takes slices from (caller only)
   std::size_t taken_ = 0;  // slices of it handed out (caller only)
+  double seconds_waiting_ = 0;  // in wait_for_slice (caller only)
   bool finished_ = false;      // the inner source has no more slices (or failed)
   bool stopping_ = false;      // the destructor wants the reader to stop
   bool reader_done_ = false;   // the reading thread has returned

@@ -274,12 +274,19 @@ TEST(PrefetchingSource, ASlowInputReachesTheCallerAsItArrivesNotWhenABatchIsFull
     EXPECT_EQ(static_cast<const unsigned char*>(slice.samples)[15], z);
   }
   EXPECT_FALSE(inner.gave_up()) << "the first slices waited for the rest of the input";
-  inner.release();
+  const double waited_before = prefetched.seconds_waiting();
+  // The caller now waits for slice 5 until the source is released: time spent reading.
+  std::thread releaser([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    inner.release();
+  });
   for (std::uint32_t z = 5; z < 8; ++z) {
     ASSERT_TRUE(prefetched.next_slice(&slice));
     EXPECT_EQ(static_cast<const unsigned char*>(slice.samples)[0], z);
   }
+  releaser.join();
   EXPECT_FALSE(prefetched.next_slice(&slice));
+  EXPECT_GE(prefetched.seconds_waiting() - waited_before, 0.04);  // of the 50 ms
 }
 
 TEST(PrefetchingSource, AReadErrorIsRethrownAtTheSliceWhereItHappened) {
