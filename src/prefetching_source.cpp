@@ -6,6 +6,12 @@
 #include "read_cancellation.h"
 
 namespace mvox {
+namespace {
+
+// How long a caller that found no slice ready waits before it looks again, unless woken.
+constexpr std::chrono::milliseconds kLookAgain(1);
+
+}  // namespace
 
 PrefetchingSource::PrefetchingSource(SliceSource& inner, std::size_t batch_bytes)
     : inner_(inner), info_(inner.info()), batch_bytes_(batch_bytes), reader_([this] {
@@ -59,17 +65,6 @@ void PrefetchingSource::Batch::put(std::size_t index, const SliceView& slice,
   }
 }
 
-void PrefetchingSource::publish(Batch& batch, std::size_t count) {
-  // The count is stored before the flag is read, and the caller sets the flag before it reads
-  // the count again (both sequentially consistent): either the caller sees the slice, or this
-  // sees the caller waiting and wakes it. The lock makes sure it is asleep by then.
-  batch.count.store(count, std::memory_order_seq_cst);
-  if (caller_waiting_.load(std::memory_order_seq_cst)) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    changed_.notify_all();
-  }
-}
-
 void PrefetchingSource::read_ahead() {
   // A slice read that did not fit the batch being filled (another shape): it starts the next
   // one. Its view stays valid because the inner source is not called again before it is copied.
@@ -103,7 +98,8 @@ void PrefetchingSource::read_ahead() {
           break;
         }
         batch.put(count, slice, batch_bytes_);
-        publish(batch, ++count);
+        // Published without waking the caller: it looks every millisecond (see the header).
+        batch.count.store(++count, std::memory_order_release);
         if (cancel_reads_.load(std::memory_order_relaxed)) return;  // the destructor waits
         if (count == batch.capacity) break;
       }
@@ -154,10 +150,9 @@ bool PrefetchingSource::wait_for_slice(SliceView* slice) {
       if (error_) std::rethrow_exception(error_);
       return false;
     }
-    caller_waiting_.store(true, std::memory_order_seq_cst);
-    // Looked at again after saying so: a slice published in between would wake nobody.
-    if (taken_ == batch.count.load(std::memory_order_seq_cst)) changed_.wait(lock);
-    caller_waiting_.store(false, std::memory_order_relaxed);
+    // Woken when the batch is closed or the input ends; slices published meanwhile are seen
+    // at the next look.
+    changed_.wait_for(lock, kLookAgain);
   }
 }
 

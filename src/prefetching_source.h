@@ -7,12 +7,14 @@
 // Slices cross between the threads through two batches: each holds as many whole slices as fit
 // in `batch_bytes` (64 KiB by default), and always at least one. The reader publishes each slice
 // in the batch it fills with an atomic count, and the caller takes it from there without a
-// lock; the threads meet under the lock only to pass a whole batch back and forth, or when one
-// must wait for the other. Handing each slice over under a lock cost a wake-up and two context
-// switches, tens of microseconds, more than a small slice takes to extract; now that is paid
-// once per batch, and only by a thread that found nothing to do. A slice of `batch_bytes` or
-// more has a batch to itself, as before batches; and a slow input (a pipe that trickles, a slice
-// that takes long to decode) still reaches the caller slice by slice, as it arrives.
+// lock; the threads meet under the lock only to pass a whole batch back and forth. Handing each
+// slice over under a lock with a wake-up cost a system call and two context switches, tens of
+// microseconds, more than a small slice takes to read or extract. Nor does the reader wake the
+// caller for each slice it publishes: a caller that finds none ready looks again every
+// millisecond, and is woken at once when a batch is full or the input ends. So a slice of
+// `batch_bytes` or more still reaches the caller as soon as it is read, as before batches, and a
+// slow input (a pipe that trickles, a slice that takes long to decode) within a millisecond of
+// each slice, never held back for a batch to fill.
 // Memory: two batches, each max(batch_bytes, one slice), fixed.
 //
 // The inner source is only ever called from the reading thread. Whatever it throws is rethrown
@@ -91,7 +93,6 @@ class PrefetchingSource final : public SliceSource {
 
   bool wait_for_slice(SliceView* slice);  // the caller, when the batch in hand has no slice ready
   void read_ahead();                      // the reading thread
-  void publish(Batch& batch, std::size_t count);
 
   SliceSource& inner_;
   const VolumeInfo info_;
@@ -105,7 +106,6 @@ class PrefetchingSource final : public SliceSource {
   bool finished_ = false;      // the inner source has no more slices (or failed)
   bool stopping_ = false;      // the destructor wants the reader to stop
   bool reader_done_ = false;   // the reading thread has returned
-  std::atomic<bool> caller_waiting_{false};  // the caller sleeps until a slice is published
   std::atomic<bool> cancel_reads_{false};  // read_cancellation.h: give up a blocked read; and
                                            // the reader stops between two slices
   std::exception_ptr error_;  // what the inner source threw, for the slice after the last good
