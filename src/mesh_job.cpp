@@ -112,7 +112,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   plan.process_bytes = current_resident_bytes();
   plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
   plan.add("reader (slice and decoder buffers)", source.working_bytes());
-  plan.add("reading ahead (2 slices)", PrefetchingSource::buffer_bytes(info));
+  plan.add("reading ahead (2 batches)", PrefetchingSource::buffer_bytes(info));
   if (job.normals || (picture && job.picture.smooth)) plan.add("slice window (4 slices)", 4 * slice);
   if (picture) {
     // The z-buffer, and an encoded picture or frame: at most about one byte a pixel for the
@@ -209,14 +209,25 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   {
     ProgressLine progress("extracting", report.volume.depth,
                           !job.quiet && ProgressLine::stderr_is_terminal());
+    // Called after every slice, so only when it has something to do: a call and its timing
+    // cost more than a slice of a few voxels takes to extract.
+    SliceProgress after_slice;
+    if (progress.enabled() || (picture && picture->follows_slices()))
+      after_slice = [&](std::uint32_t done) {
+        progress.update(done);
+        if (picture) picture->after_slice(done);
+      };
     // Reading overlaps extraction from here on; the read time reported is the time spent
     // waiting for a slice.
     PrefetchingSource prefetched(source);
     report.result = run_pipeline(prefetched, job.threshold, engine, sinks, job.input_label,
-                                 [&](std::uint32_t done) {
-                                   progress.update(done);
-                                   if (picture) picture->after_slice(done);
-                                 });
+                                 after_slice, [&] { return prefetched.seconds_waiting(); });
+  }
+  if (picture) {
+    // Frames and the window's updates happened between slices: rendering, not extraction.
+    const double following = picture->seconds_following();
+    report.result.times.render_s += following;
+    report.result.times.extract_s -= following;
   }
   if (report.result.status == Status::sink_refused && writer && writer->error())
     throw *writer->error();

@@ -15,42 +15,56 @@ double seconds_since(Clock::time_point start) {
 }
 
 // Forwards every batch to the mesh sink and the render sink (either may be null) and adds up
-// the time each takes.
+// the time each takes. A clock reading costs about as much as a small batch, and the engine
+// makes up to three calls per slice, so each reading ends one interval and starts the next:
+// the mesh sink's end is the render sink's start, and the end of consume_polygons() is the start
+// of the consume_polygon_geometry() that the engine makes right after it (polygon_sink.h).
 class TimedSinks final : public PolygonSink {
  public:
   explicit TimedSinks(const PipelineSinks& sinks) : mesh_(sinks.mesh), render_(sinks.render) {}
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
-    return both([&](PolygonSink& sink) { return sink.consume_vertices(vertices, vertex_count); });
+    return both(Clock::now(),
+                [&](PolygonSink& sink) { return sink.consume_vertices(vertices, vertex_count); });
   }
   Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
-    return both([&](PolygonSink& sink) { return sink.consume_polygons(polygons, polygon_count); });
+    const Status status = both(Clock::now(), [&](PolygonSink& sink) {
+      return sink.consume_polygons(polygons, polygon_count);
+    });
+    geometry_start_ = last_reading_;
+    return status;
   }
   Status consume_polygon_geometry(const PolygonGeometry* polygons,
                                   std::size_t polygon_count) override {
-    return both(
-        [&](PolygonSink& sink) { return sink.consume_polygon_geometry(polygons, polygon_count); });
+    return both(geometry_start_, [&](PolygonSink& sink) {
+      return sink.consume_polygon_geometry(polygons, polygon_count);
+    });
   }
   double mesh_seconds = 0;
   double render_seconds = 0;
 
  private:
   template <class Call>
-  Status both(Call call) {
+  Status both(Clock::time_point start, Call call) {
     Status status = Status::ok;
+    last_reading_ = start;
     if (mesh_) status = timed(*mesh_, call, mesh_seconds);
     if (render_ && status == Status::ok) status = timed(*render_, call, render_seconds);
     return status;
   }
+  // Calls `sink` from the last reading on, and takes the next.
   template <class Call>
-  static Status timed(PolygonSink& sink, Call& call, double& seconds) {
-    const auto start = Clock::now();
+  Status timed(PolygonSink& sink, Call& call, double& seconds) {
     const Status status = call(sink);
-    seconds += seconds_since(start);
+    const auto now = Clock::now();
+    seconds += std::chrono::duration<double>(now - last_reading_).count();
+    last_reading_ = now;
     return status;
   }
 
   PolygonSink* mesh_;
   PolygonSink* render_;
+  Clock::time_point last_reading_;
+  Clock::time_point geometry_start_;  // the end of the last consume_polygons()
 };
 
 // Times the source's next_slice() calls.
@@ -82,7 +96,8 @@ PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineO
 
 PipelineResult run_pipeline(SliceSource& source, double threshold,
                             const EngineOptions& requested_options, const PipelineSinks& sinks,
-                            const std::string& input_label, const SliceProgress& progress) {
+                            const std::string& input_label, const SliceProgress& progress,
+                            const SourceSeconds& source_seconds) {
   const VolumeInfo& info = source.info();
   EngineOptions options = requested_options;
   if (sinks.render) options.polygon_geometry = true;
@@ -100,21 +115,13 @@ PipelineResult run_pipeline(SliceSource& source, double threshold,
     throw Error(input_label, std::string("cannot start: ") + status_message(init));
 
   TimedSource timed_source(source);
+  SliceSource& streamed = source_seconds ? source : timed_source;
   const auto start = Clock::now();
-  // Progress callbacks (frames of the picture, a live window) count as rendering.
-  double progress_seconds = 0;
-  SliceProgress timed_progress;
-  if (progress)
-    timed_progress = [&](std::uint32_t slices_done) {
-      const auto progress_start = Clock::now();
-      progress(slices_done);
-      progress_seconds += seconds_since(progress_start);
-    };
-  result.status = stream_volume(timed_source, engine, timed_progress, sinks.window);
+  result.status = stream_volume(streamed, engine, progress, sinks.window);
   result.times.total_s = seconds_since(start);
-  result.times.read_s = timed_source.seconds;
+  result.times.read_s = source_seconds ? source_seconds() : timed_source.seconds;
   result.times.write_s = timed_sink.mesh_seconds;
-  result.times.render_s = timed_sink.render_seconds + progress_seconds;
+  result.times.render_s = timed_sink.render_seconds;
   result.times.extract_s =
       result.times.total_s - result.times.read_s - result.times.write_s - result.times.render_s;
   result.counters = engine.counters();

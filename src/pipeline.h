@@ -2,6 +2,7 @@
 // One extraction, source to sink, with the time spent in each phase: what `mvox extract`,
 // `mvox demo` and the benchmarks all run.
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "mvox/engine.h"
@@ -14,7 +15,8 @@ struct PhaseTimes {
   double read_s = 0;     // inside the slice source: file reading, decoding, byte swapping
   double extract_s = 0;  // inside the engine, minus the time its sink took
   double write_s = 0;    // inside the mesh sink (writing the mesh)
-  double render_s = 0;   // inside the render sink (drawing the picture), plus frames written
+  double render_s = 0;   // inside the render sink (drawing the picture); run_mesh_job adds the
+                         // frames written and the live window's updates
   double total_s = 0;    // wall clock from the first slice to the engine's finish()
 };
 
@@ -33,13 +35,21 @@ struct PipelineSinks {
   SliceWindow* window = nullptr;
 };
 
+// The seconds a source has spent reading so far, for a source that times itself.
+using SourceSeconds = std::function<double()>;
+
 // Streams every slice of `source` through a new engine into the sinks and finishes the volume.
 // The engine sends polygons by value (EngineOptions::polygon_geometry) when there is a render
 // sink. Throws mvox::Error naming `input_label` when the engine refuses the source (for example
 // slices too large to address).
+// The read time is `source_seconds()` when given (PrefetchingSource::seconds_waiting, which
+// knows when it waits); otherwise every next_slice() call is timed, two clock readings a slice.
+// `progress` is not timed, for the same reason: it counts as extraction unless the caller takes
+// out the time it spent there (run_mesh_job does for frames and the live window).
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
                             const PipelineSinks& sinks, const std::string& input_label,
-                            const SliceProgress& progress = {});
+                            const SliceProgress& progress = {},
+                            const SourceSeconds& source_seconds = {});
 
 // The same with one mesh sink.
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,

@@ -23,15 +23,25 @@ ProgressLine::ProgressLine(std::string label, std::uint32_t total_slices, bool e
       total_(total_slices),
       enabled_(enabled),
       start_(std::chrono::steady_clock::now()),
-      last_draw_(start_) {}
+      last_draw_(start_),
+      last_look_(start_) {}
 
 ProgressLine::~ProgressLine() { finish(); }
 
 void ProgressLine::update(std::uint32_t slices_done) {
   if (!enabled_) return;
+  const bool last = slices_done == total_;
+  if (!last && slices_done - looked_at_ < stride_) return;
+  looked_at_ = slices_done;
   const auto now = std::chrono::steady_clock::now();
+  const auto since_look = now - last_look_;
+  last_look_ = now;
+  // At most 1024 slices between readings, and back to every slice when slices slow down, so
+  // that a volume whose slices come slowly after a fast start (a pipe) still shows its progress.
+  if (since_look < std::chrono::milliseconds(1) && stride_ < 1024) stride_ *= 2;
+  if (since_look > std::chrono::milliseconds(10)) stride_ = 1;
   // Redraw at most ten times a second: a terminal is slower than the engine.
-  if (drawn_ && slices_done != total_ && now - last_draw_ < std::chrono::milliseconds(100)) return;
+  if (drawn_ && !last && now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double rate = elapsed > 0 ? slices_done / elapsed : 0;

@@ -15,6 +15,7 @@ class ProgressLine {
 
   void update(std::uint32_t slices_done);
   void finish();
+  bool enabled() const { return enabled_; }
 
   // True when standard error is a terminal (where a redrawn line makes sense).
   static bool stderr_is_terminal();
@@ -26,6 +27,12 @@ class ProgressLine {
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_draw_;
+  // The clock is read every `stride_` slices (1 to 1024), adapted to keep about a millisecond
+  // between readings: a reading per slice costs more than a slice of a few voxels takes to
+  // extract.
+  std::chrono::steady_clock::time_point last_look_;
+  std::uint32_t looked_at_ = 0;  // slices_done when the clock was last read
+  std::uint32_t stride_ = 1;
 };
 
 }  // namespace mvox

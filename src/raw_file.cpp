@@ -4,8 +4,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstring>
 
+#include "buffer_allocation.h"
 #include "error.h"
 #include "read_cancellation.h"
 
@@ -38,17 +41,18 @@ void RawFile::expect_size(std::uint64_t expected_bytes, const std::string& what)
   }
 }
 
-void RawFile::read_at(std::uint64_t offset, void* bytes, std::size_t byte_count) {
+std::size_t RawFile::read_some(std::uint64_t offset, void* bytes, std::size_t min_count,
+                               std::size_t max_count) {
   if (is_stream_ && offset != stream_position_)
     throw Error(path_, "cannot seek in a pipe: reading byte " + std::to_string(offset) +
                            " after byte " + std::to_string(stream_position_));
   auto* destination = static_cast<char*>(bytes);
   std::size_t done = 0;
   // pread and read may return fewer bytes than asked (large requests, signals, a pipe that has
-  // only part of the data yet), so loop until done.
-  while (done < byte_count) {
-    const ssize_t got = is_stream_ ? ::read(descriptor_, destination + done, byte_count - done)
-                                   : ::pread(descriptor_, destination + done, byte_count - done,
+  // only part of the data yet), so loop until enough.
+  while (done < min_count) {
+    const ssize_t got = is_stream_ ? ::read(descriptor_, destination + done, max_count - done)
+                                   : ::pread(descriptor_, destination + done, max_count - done,
                                              static_cast<off_t>(offset + done));
     if (got < 0) {
       if (errno == EINTR && reads_cancelled()) throw Error(path_, "reading stopped");
@@ -57,11 +61,12 @@ void RawFile::read_at(std::uint64_t offset, void* bytes, std::size_t byte_count)
     }
     if (got == 0) {
       throw Error(path_, "file ended at byte " + std::to_string(offset + done) + ", expected " +
-                             std::to_string(offset + byte_count) + " bytes");
+                             std::to_string(offset + min_count) + " bytes");
     }
     done += static_cast<std::size_t>(got);
     if (is_stream_) stream_position_ += static_cast<std::uint64_t>(got);
   }
+  return done;
 }
 
 void RawFile::expect_end(std::uint64_t expected_bytes, const std::string& what) {
@@ -75,6 +80,41 @@ void RawFile::expect_end(std::uint64_t expected_bytes, const std::string& what) 
   if (got > 0)
     throw Error(path_, "holds more than the " + std::to_string(expected_bytes) +
                            " bytes expected for " + what);
+}
+
+ChunkedSliceReader::ChunkedSliceReader(RawFile& file, std::uint64_t offset,
+                                       std::size_t slice_bytes, std::uint64_t slice_count,
+                                       std::size_t chunk_bytes)
+    : file_(file),
+      slice_bytes_(slice_bytes),
+      next_offset_(offset),
+      end_offset_(offset + slice_count * slice_bytes) {
+  const std::size_t slices = slice_bytes == 0 ? 1 : chunk_bytes / slice_bytes;
+  buffer_bytes_ = (slices > 0 ? slices : 1) * slice_bytes;
+}
+
+unsigned char* ChunkedSliceReader::next() {
+  // Allocated with the first slice, not by the constructor: a run's memory plan may refuse it.
+  if (buffer_.empty()) resize_buffer(buffer_, buffer_bytes_, file_.path(), "slices");
+  if (end_ - begin_ < slice_bytes_) {
+    // A stream may have delivered part of a slice: it moves to the front, and the read
+    // completes it.
+    const std::size_t part = end_ - begin_;
+    if (part > 0) std::memmove(buffer_.data(), buffer_.data() + begin_, part);
+    begin_ = 0;
+    end_ = part;
+    // Never past the last slice: what follows it is for the caller to check (expect_end).
+    const std::uint64_t room = buffer_.size() - part;
+    const std::size_t wanted =
+        static_cast<std::size_t>(std::min<std::uint64_t>(room, end_offset_ - next_offset_));
+    const std::size_t got =
+        file_.read_some(next_offset_, buffer_.data() + part, slice_bytes_ - part, wanted);
+    end_ += got;
+    next_offset_ += got;
+  }
+  unsigned char* slice = buffer_.data() + begin_;
+  begin_ += slice_bytes_;
+  return slice;
 }
 
 std::string raw_size_problem(std::uint64_t actual_bytes, std::uint64_t expected_bytes,

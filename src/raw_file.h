@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace mvox {
 
@@ -31,7 +32,16 @@ class RawFile {
 
   // Reads exactly `byte_count` bytes starting at `offset` into `bytes`. On a stream `offset`
   // must be where the previous read ended.
-  void read_at(std::uint64_t offset, void* bytes, std::size_t byte_count);
+  void read_at(std::uint64_t offset, void* bytes, std::size_t byte_count) {
+    read_some(offset, bytes, byte_count, byte_count);
+  }
+
+  // Reads at least `min_count` and at most `max_count` bytes starting at `offset` into `bytes`,
+  // and returns how many: as many as one read gives once `min_count` have arrived, so a stream
+  // never waits for more than `min_count`. Fails as read_at does when the file ends before
+  // `min_count`.
+  std::size_t read_some(std::uint64_t offset, void* bytes, std::size_t min_count,
+                        std::size_t max_count);
 
   // After the last expected byte (`expected_bytes` in all) has been read: throws if a stream
   // holds more. Regular files were checked by expect_size.
@@ -43,6 +53,36 @@ class RawFile {
   std::uint64_t size_bytes_ = 0;
   bool is_stream_ = false;
   std::uint64_t stream_position_ = 0;  // bytes read so far from a stream
+};
+
+// Consecutive slices of `slice_bytes` each, from byte `offset` of a file on, read a chunk of
+// several at a time: one system call per chunk instead of one per slice, which for slices of a
+// few bytes costs far more than the slices themselves. A chunk is as many whole slices as fit in
+// `chunk_bytes`, at least one, so the memory is max(chunk_bytes, slice_bytes), whatever the
+// number of slices. A stream is read as it arrives: next() waits only for the slice it returns,
+// so an error (a pipe that ends early) comes at the slice where it happens, as with one read
+// per slice, and a pipe that trickles is not held back.
+class ChunkedSliceReader {
+ public:
+  ChunkedSliceReader(RawFile& file, std::uint64_t offset, std::size_t slice_bytes,
+                     std::uint64_t slice_count, std::size_t chunk_bytes);
+
+  // The next slice's bytes, which the caller may change in place; valid until the next call.
+  // At most `slice_count` calls.
+  unsigned char* next();
+
+  // The memory next() allocates with the first slice: max(chunk_bytes, slice_bytes).
+  std::size_t buffer_bytes() const { return buffer_bytes_; }
+
+ private:
+  RawFile& file_;
+  std::size_t slice_bytes_;
+  std::uint64_t next_offset_;  // in the file: the first byte not yet read
+  std::uint64_t end_offset_;   // in the file: one past the last slice's last byte
+  std::size_t buffer_bytes_ = 0;
+  std::vector<unsigned char> buffer_;
+  std::size_t begin_ = 0;  // in buffer_: the next slice's first byte
+  std::size_t end_ = 0;    // in buffer_: one past the last byte read
 };
 
 // The message a wrong-sized raw file gets: "file is N bytes, expected M for WHAT".

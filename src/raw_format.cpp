@@ -161,11 +161,11 @@ void swap_to_native(void* samples, std::size_t sample_count, std::size_t bytes_p
   }
 }
 
-SliceView native_slice_view(std::vector<unsigned char>& buffer, const RawFormat& format) {
-  swap_to_native(buffer.data(), buffer.size() / format.bytes_per_sample, format.bytes_per_sample,
+SliceView native_slice_view(unsigned char* bytes, const RawFormat& format) {
+  swap_to_native(bytes, format.slice_bytes() / format.bytes_per_sample, format.bytes_per_sample,
                  format.byte_order);
   SliceView slice;
-  slice.samples = buffer.data();
+  slice.samples = bytes;
   slice.width = format.width;
   slice.height = format.height;
   slice.row_stride_bytes = static_cast<std::size_t>(format.width) * format.bytes_per_sample;

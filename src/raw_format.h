@@ -4,7 +4,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
-#include <vector>
 
 #include "mvox/slice.h"
 
@@ -44,8 +43,9 @@ std::string raw_format_text(const RawFormat& format);
 void swap_to_native(void* samples, std::size_t sample_count, std::size_t bytes_per_sample,
                     ByteOrder file_order);
 
-// Swaps one slice read into `buffer` to native order in place and returns the view of it the
-// engine reads: the one step both raw readers finish every slice with.
-SliceView native_slice_view(std::vector<unsigned char>& buffer, const RawFormat& format);
+// Swaps one slice read into `bytes` (format.slice_bytes() of them) to native order in place and
+// returns the view of it the engine reads: the one step both raw readers finish every slice
+// with.
+SliceView native_slice_view(unsigned char* bytes, const RawFormat& format);
 
 }  // namespace mvox

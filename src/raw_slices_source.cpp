@@ -43,7 +43,7 @@ bool RawSlicesSource::next_slice(SliceView* slice) {
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
   if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file.path(), "a slice");
   file.read_at(0, buffer_.data(), buffer_.size());
-  *slice = native_slice_view(buffer_, format_);
+  *slice = native_slice_view(buffer_.data(), format_);
   ++next_index_;
   return true;
 }

@@ -5,12 +5,22 @@
 
 namespace mvox {
 
-RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format)
-    : file_(path), format_(format) {
-  if (format_.depth == 0) {
-    throw Error("--raw", raw_format_text(format_) +
+namespace {
+
+const RawFormat& volume_format(const RawFormat& format) {
+  if (format.depth == 0) {
+    throw Error("--raw", raw_format_text(format) +
                              " describes one file per slice; one volume file needs WxHxD:TYPE");
   }
+  return format;
+}
+
+}  // namespace
+
+RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format)
+    : file_(path),
+      format_(volume_format(format)),
+      slices_(file_, 0, format_.slice_bytes(), format_.depth, kChunkBytes) {
   file_.expect_size(std::uint64_t{format_.depth} * format_.slice_bytes(),
                     "a " + raw_format_text(format_) + " volume");
   info_.width = format_.width;
@@ -29,9 +39,7 @@ bool RawVolumeSource::next_slice(SliceView* slice) {
     }
     return false;
   }
-  if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file_.path(), "a slice");
-  file_.read_at(std::uint64_t{next_index_} * buffer_.size(), buffer_.data(), buffer_.size());
-  *slice = native_slice_view(buffer_, format_);
+  *slice = native_slice_view(slices_.next(), format_);
   ++next_index_;
   return true;
 }

@@ -1,5 +1,6 @@
 #include "surface_picture.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
@@ -86,8 +87,13 @@ void SurfacePicture::write_frame(std::uint32_t slices_done) {
 }
 
 void SurfacePicture::after_slice(std::uint32_t slices_done) {
-  if (slices_done % options_.every == 0) write_frame(slices_done);
+  const bool frame = slices_done % options_.every == 0 && !options_.frames_dir.empty();
+  if (!frame && !live_window_) return;
+  const auto start = std::chrono::steady_clock::now();
+  if (frame) write_frame(slices_done);
   if (live_window_) live_window_->show(renderer_.pixels(), renderer_.width(), renderer_.height());
+  seconds_following_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void SurfacePicture::complete(std::uint32_t slices) {

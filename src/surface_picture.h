@@ -56,6 +56,10 @@ class SurfacePicture {
   // After each slice the engine has taken: writes a frame every `every` slices and refreshes
   // the live window. Throws mvox::Error if a frame cannot be written.
   void after_slice(std::uint32_t slices_done);
+  // False when after_slice() does nothing (no frames, no window), so need not be called.
+  bool follows_slices() const { return !options_.frames_dir.empty() || live_window_ != nullptr; }
+  // Seconds after_slice() has spent writing frames and updating the window: rendering time.
+  double seconds_following() const { return seconds_following_; }
 
   // After the volume (of `slices` slices) is finished: the last frame, the window's final
   // picture, and the image encoded and sealed (OutputFile::seal). publish() then makes it appear.
@@ -77,6 +81,7 @@ class SurfacePicture {
   std::optional<OutputFile> image_file_;
   std::unique_ptr<LiveWindow> live_window_;
   std::uint32_t last_frame_ = 0;
+  double seconds_following_ = 0;
 };
 
 }  // namespace mvox

@@ -1,8 +1,11 @@
 // Slice readers: file listing and natural order, --raw parsing, image stacks, raw slices and raw
 // volumes. Every file a test reads is written by the test into a fresh temporary directory.
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -15,6 +18,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "error.h"
@@ -104,12 +108,13 @@ std::vector<unsigned char> encode_f32(const std::vector<float>& values, ByteOrde
 }
 
 // Reads every slice of `source` as samples of type T, checking the view against info() and
-// that the view always points at the same buffer (one slice held, reused).
+// that the view always points into the same memory, reused: one slice buffer, or the
+// working_bytes() the source says it holds (RawVolumeSource reads several small slices at once).
 template <typename T>
 std::vector<std::vector<T>> read_all(SliceSource& source) {
   const VolumeInfo& info = source.info();
   std::vector<std::vector<T>> slices;
-  const void* first_buffer = nullptr;
+  const char* first_buffer = nullptr;
   SliceView view;
   while (source.next_slice(&view)) {
     EXPECT_EQ(view.width, info.width);
@@ -117,8 +122,16 @@ std::vector<std::vector<T>> read_all(SliceSource& source) {
     EXPECT_EQ(view.type, info.type);
     EXPECT_EQ(sample_bytes(view.type), sizeof(T));
     EXPECT_GE(view.row_stride_bytes, view.width * sizeof(T));
-    if (first_buffer == nullptr) first_buffer = view.samples;
-    EXPECT_EQ(view.samples, first_buffer) << "slice " << slices.size() << " moved buffers";
+    const auto* start = static_cast<const char*>(view.samples);
+    if (first_buffer == nullptr) first_buffer = start;
+    const std::size_t slice_bytes = view.row_stride_bytes * view.height;
+    if (source.working_bytes() == 0) {
+      EXPECT_EQ(start, first_buffer) << "slice " << slices.size() << " moved buffers";
+    } else {
+      EXPECT_LE(first_buffer, start) << "slice " << slices.size() << " left the buffer";
+      EXPECT_LE(start + slice_bytes, first_buffer + source.working_bytes())
+          << "slice " << slices.size() << " left the buffer";
+    }
     std::vector<T> samples(static_cast<std::size_t>(view.width) * view.height);
     for (std::uint32_t y = 0; y < view.height; ++y) {
       std::memcpy(&samples[static_cast<std::size_t>(y) * view.width],
@@ -771,6 +784,84 @@ TEST(RawVolume, RefusesFileOfWrongSizeAndWrongInputs) {
       dir / "absent.raw");
   // A glob that matches exactly one file is fine.
   EXPECT_NO_THROW(read_through({dir / "o*.raw"}, parse_raw_format("7x5x4:u8")));
+}
+
+// A volume of many small slices: they are read a chunk of several at a time (one read per
+// slice cost more than extracting a slice of a few voxels), each swapped to native order as it
+// is handed out, and the chunk is the memory the source says it holds.
+std::vector<std::uint16_t> many_slices_u16(int depth) {
+  std::vector<std::uint16_t> all;
+  for (int k = 0; k < depth; ++k) {
+    const std::vector<std::uint16_t> slice = raw_slice(raw_u16, k);
+    all.insert(all.end(), slice.begin(), slice.end());
+  }
+  return all;
+}
+
+TEST(RawVolume, ManySmallSlicesAreReadAChunkAtATimeInFixedMemory) {
+  TempDir dir;
+  constexpr int kDepth = 5000;  // 30-byte slices: 2184 to a 64 KiB chunk, so three chunks
+  write_bytes(dir / "v.raw", encode_u16(many_slices_u16(kDepth), ByteOrder::big));
+  RawVolumeSource source(dir / "v.raw", parse_raw_format("5x3x5000:u16be"));
+  EXPECT_EQ(source.working_bytes(), (RawVolumeSource::kChunkBytes / 30) * 30);
+  const auto slices = read_all<std::uint16_t>(source);
+  ASSERT_EQ(slices.size(), static_cast<std::size_t>(kDepth));
+  for (int k = 0; k < kDepth; ++k) ASSERT_EQ(slices[k], raw_slice(raw_u16, k)) << "slice " << k;
+
+  // A slice larger than a chunk is read alone, in a buffer of its own size.
+  const std::size_t big = RawVolumeSource::kChunkBytes + 7;
+  write_bytes(dir / "big.raw", std::vector<unsigned char>(2 * big, 9));
+  RawVolumeSource big_source(dir / "big.raw",
+                             parse_raw_format(std::to_string(big) + "x1x2:u8"));
+  EXPECT_EQ(big_source.working_bytes(), big);
+  EXPECT_EQ(read_all<std::uint8_t>(big_source).size(), 2u);
+}
+
+// Writes `bytes` into the FIFO at `path` in pieces of odd sizes with pauses between, so that
+// reads end inside slices, then closes it.
+void trickle_into_fifo(const std::string& path, const std::vector<unsigned char>& bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  ASSERT_GE(fd, 0) << path;
+  const std::size_t pieces[] = {1, 7, 29, 100, 3, 64};
+  std::size_t done = 0;
+  for (int i = 0; done < bytes.size(); ++i) {
+    const std::size_t piece = std::min(pieces[i % 6], bytes.size() - done);
+    ASSERT_EQ(::write(fd, bytes.data() + done, piece), static_cast<ssize_t>(piece));
+    done += piece;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  ::close(fd);
+}
+
+TEST(RawVolume, APipeIsReadAsItArrivesWhereverItsPiecesEnd) {
+  TempDir dir;
+  ASSERT_EQ(::mkfifo((dir / "v.raw").c_str(), 0600), 0);
+  constexpr int kDepth = 200;
+  std::thread writer(
+      [&] { trickle_into_fifo(dir / "v.raw", encode_u16(many_slices_u16(kDepth), ByteOrder::big)); });
+  {
+    RawVolumeSource source(dir / "v.raw", parse_raw_format("5x3x200:u16be"));
+    const auto slices = read_all<std::uint16_t>(source);
+    ASSERT_EQ(slices.size(), static_cast<std::size_t>(kDepth));
+    for (int k = 0; k < kDepth; ++k) EXPECT_EQ(slices[k], raw_slice(raw_u16, k)) << "slice " << k;
+  }
+  writer.join();
+}
+
+TEST(RawVolume, APipeThatEndsInsideASliceFailsAtThatSlice) {
+  TempDir dir;
+  ASSERT_EQ(::mkfifo((dir / "v.raw").c_str(), 0600), 0);
+  // Two slices of 35 bytes and ten bytes of the third.
+  std::thread writer([&] { trickle_into_fifo(dir / "v.raw", std::vector<unsigned char>(80, 1)); });
+  {
+    RawVolumeSource source(dir / "v.raw", parse_raw_format("7x5x4:u8"));
+    SliceView view;
+    EXPECT_TRUE(source.next_slice(&view));
+    EXPECT_TRUE(source.next_slice(&view));
+    EXPECT_CONTAINS(error_of([&] { source.next_slice(&view); }),
+                    dir / "v.raw: file ended at byte 80, expected 105 bytes");
+  }
+  writer.join();
 }
 
 // ---------------------------------------------------------------------------------------------
