@@ -115,7 +115,7 @@ run_all() {
     sed -i "s|$binary|mvox|g" "$dir/stderr"
     # The report less what differs between runs of one binary.
     if [ -f "$dir/s.json" ]; then
-      grep -v -E '"(time_seconds|extract_mvoxels_per_second|start_memory_bytes|peak_memory_bytes|job_memory_bytes)"' \
+      grep -v -E '"(time_seconds|extract_mvoxels_per_second|start_memory_bytes|peak_memory_bytes|job_memory_bytes|memory_plan)"' \
         "$dir/s.json" > "$dir/s.counters"
       rm "$dir/s.json"
     fi
