@@ -10,6 +10,8 @@
 #
 #   scripts/bad_input_tour.sh            # after: cmake --build build --target mvox
 set -uo pipefail
+# Bytes, not characters: some cases name files with bytes that are not UTF-8.
+export LC_ALL=C
 
 repo=$(cd "$(dirname "$0")/.." && pwd)
 mvox_binary=${MVOX:-$repo/build/src/mvox}
@@ -21,7 +23,15 @@ if [ ! -x "$mvox_binary" ]; then
 fi
 # Commands are shown, and run, as a user types them; each run's peak memory (KiB) is noted.
 peak_file=/dev/null
-mvox() { /usr/bin/time -f %M -a -o "$peak_file" "$mvox_binary" "$@"; }
+# With standard output closed, time's own file would take descriptor 1 and so become mvox's
+# standard output: such runs go untimed.
+mvox() {
+  if { true 3>&1; } 2> /dev/null; then
+    /usr/bin/time -f %M -a -o "$peak_file" "$mvox_binary" "$@"
+  else
+    "$mvox_binary" "$@"
+  fi
+}
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -133,32 +143,33 @@ new_case() {
 # over 64 MiB, sparse stand-ins for huge scans; a type letter for the rest).
 snapshot() {
   find . -mindepth 1 -print0 | sort -z | while IFS= read -r -d '' entry; do
+    local shown=${entry//$'\n'/\\n}  # one line per entry, whatever its name
     if [ -f "$entry" ] && [ ! -L "$entry" ]; then
       if [ "$(stat -c %s "$entry")" -gt $((64 << 20)) ]; then
-        echo "$(stat -c %s.%Y "$entry") $entry"
+        echo "$(stat -c %s.%Y "$entry") $shown"
       else
-        echo "$(md5sum < "$entry" | cut -d' ' -f1) $entry"
+        echo "$(md5sum < "$entry" | cut -d' ' -f1) $shown"
       fi
     else
-      echo "$(stat -c %F "$entry" | tr ' ' _) $entry"
+      echo "$(stat -c %F "$entry" | tr ' ' _) $shown"
     fi
   done
 }
 
 # What is in the directory that was not, and what changed or went.
 files_left() {
-  local before=$1 after left=""
-  after=$(snapshot)
-  while read -r sum name; do
-    [ -n "$name" ] || continue
-    local then
-    then=$(grep -F -- " $name" <<< "$before" | awk -v n="$name" '$2 == n {print $1}' | head -n 1)
-    if [ -z "$then" ]; then left+="${name#./} "; elif [ "$then" != "$sum" ]; then left+="${name#./} CHANGED "; fi
-  done <<< "$after"
-  while read -r sum name; do
-    [ -n "$name" ] || continue
-    grep -qF -- " $name" <<< "$after" || left+="${name#./} GONE "
-  done <<< "$before"
+  local before=$1 left="" sum name
+  local -A then now
+  while read -r sum name; do [ -n "$name" ] && then[$name]=$sum; done <<< "$before"
+  while read -r sum name; do [ -n "$name" ] && now[$name]=$sum; done <<< "$(snapshot)"
+  for name in "${!now[@]}"; do
+    if [ -z "${then[$name]+set}" ]; then
+      left+="${name#./} "
+    elif [ "${then[$name]}" != "${now[$name]}" ]; then
+      left+="${name#./} CHANGED "
+    fi
+  done
+  for name in "${!then[@]}"; do [ -n "${now[$name]+set}" ] || left+="${name#./} GONE "; done
   echo "${left:-none}"
 }
 
@@ -332,13 +343,14 @@ tour "frames onto input slices named like frames" \
   "mkdir scans; for z in 0 1 2 3 4 5 6 7; do cp stack/sphere_000\$z.png scans/frame_000\$z.png; done" \
   "mvox extract scans -t 128 --frames scans --every 2 $outputs"
 tour "mesh and report as one file by two spellings" "" "mvox extract stack -t 128 -o x.ply --stats ./x.ply"
-tour "mesh and report both on standard output" "" "mvox extract stack -t 128 -o - --stats - > out.txt"
+tour "mesh and report both on standard output (out.txt: the shell's)" "" \
+  "mvox extract stack -t 128 -o - --stats - > out.txt"
 tour "picture into a frame's place" "" "mvox extract stack -t 128 --frames f --every 4 --image f/frame_0008.png"
 tour "/dev/stdout redirected to a file (written through)" "" \
   "mvox extract stack -t 128 -o /dev/stdout -q > mesh.ply; ls -l /dev/stdout | cut -c1"
 tour "standard output closed (-o - >&-)" "" "mvox extract stack -t 128 -o - -q >&-"
 tour "an immutable report: the mesh must not be replaced either" "chattr +i previous.json" \
-  "mvox extract stack -t 128 $outputs; chattr -i previous.json"
+  "mvox extract stack -t 128 $outputs; status=\$?; chattr -i previous.json; exit \$status"
 tour "another user's report in a sticky directory" \
   "chmod 777 .; mkdir -m 1777 shared; echo theirs > shared/r.json; chown 65534 shared/r.json; echo mine > shared/m.ply; chown 65533 shared/m.ply" \
   "setpriv --reuid=65533 --regid=65533 --clear-groups $mvox_binary extract stack -t 128 -o shared/m.ply --stats shared/r.json -q"
