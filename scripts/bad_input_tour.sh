@@ -37,42 +37,21 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 outputs="-o previous.ply --image previous.png --stats previous.json -q"
 
-# make_tiff.py FILE WxH...: an uncompressed 8-bit TIFF with one page per size (Python's struct
-# only, so no TIFF tool is needed).
+# make_tiff.py FILE KIND [WxH...]: 8-bit TIFFs written with Python's struct only, so no TIFF tool
+# is needed. KIND is sizes (one uncompressed page per WxH), bad-checksum (8 deflate 12x10 pages,
+# the zlib checksum of page 6 wrong), huge-tiles (one 65536x65536 tile for a 12x10 image) or
+# huge-page (30000x30000 declared by a 17-byte deflate strip).
 cat > "$work/make_tiff.py" << 'EOF_PY'
-import struct, sys
-out = bytearray(b"II*\x00" + struct.pack("<I", 0))
-link = 4
-for size in sys.argv[2:]:
-    w, h = map(int, size.split("x"))
-    data = len(out)
-    out += bytes((x * 7) % 256 for x in range(w * h))
-    out += b"\x00" * (len(out) % 2)
-    struct.pack_into("<I", out, link, len(out))
-    tags = [(256, 4, w), (257, 4, h), (258, 3, 8), (259, 3, 1), (262, 3, 1), (273, 4, data),
-            (277, 3, 1), (278, 4, h), (279, 4, w * h)]
-    out += struct.pack("<H", len(tags))
-    for tag, kind, value in tags:
-        packed = struct.pack("<HH", value, 0) if kind == 3 else struct.pack("<I", value)
-        out += struct.pack("<HHI", tag, kind, 1) + packed
-    link = len(out)
-    out += struct.pack("<I", 0)
-open(sys.argv[1], "wb").write(out)
-EOF_PY
-
-# make_odd_tiff.py FILE KIND: 12x10 8-bit TIFFs whose headers or data lie. KIND is
-# bad-checksum (8 deflate pages, the zlib checksum of page 6 wrong), huge-tiles (one 65536x65536
-# tile for the 12x10 image) or huge-page (30000x30000 declared by a 17-byte deflate strip).
-cat > "$work/make_odd_tiff.py" << 'EOF_PY'
 import struct, sys, zlib
-def tiff(pages):
+def tiff(pages, compression=8):
     out = bytearray(b"II*\x00" + struct.pack("<I", 0))
     link = 4
     for w, h, data, tile in pages:
         offset = len(out)
         out += data + b"\x00" * (len(data) % 2)
         struct.pack_into("<I", out, link, len(out))
-        tags = [(256, 4, w), (257, 4, h), (258, 3, 8), (259, 3, 8), (262, 3, 1), (277, 3, 1)]
+        tags = [(256, 4, w), (257, 4, h), (258, 3, 8), (259, 3, compression), (262, 3, 1),
+                (277, 3, 1)]
         if tile:
             tags += [(322, 4, tile), (323, 4, tile), (324, 4, offset), (325, 4, len(data))]
         else:
@@ -85,6 +64,11 @@ def tiff(pages):
         link = len(out)
         out += struct.pack("<I", 0)
     return out
+if sys.argv[2] == "sizes":
+    sizes = [tuple(map(int, size.split("x"))) for size in sys.argv[3:]]
+    pages = [(w, h, bytes((x * 7) % 256 for x in range(w * h)), 0) for w, h in sizes]
+    open(sys.argv[1], "wb").write(tiff(pages, compression=1))
+    sys.exit(0)
 kind = sys.argv[2]
 if kind == "bad-checksum":
     pages = [(12, 10, bytearray(zlib.compress(bytes([200 if 1 < z < 6 else 0] * 120))), 0)
@@ -445,14 +429,14 @@ tour "gzip NRRD: data complete, trailer claims less" \
   "mvox extract t.nrrd -t 1 $outputs"
 tour "out of memory mid-run (ulimit -v, --max-memory none)" "truncate -s 96000000 large.raw" \
   "(ulimit -v 300000; mvox extract large.raw --raw 4000x4000x3:u16le -t 1 --max-memory none $outputs)"
-tour "TIFF stack: a page of another size" "python3 $work/make_tiff.py pages.tif 12x10 12x10 14x10" \
+tour "TIFF stack: a page of another size" "python3 $work/make_tiff.py pages.tif sizes 12x10 12x10 14x10" \
   "mvox extract pages.tif -t 10 $outputs"
 tour "TIFF stack: deflate strip failing its checksum" \
-  "python3 $work/make_odd_tiff.py stack.tif bad-checksum" "mvox extract stack.tif -t 10 $outputs"
+  "python3 $work/make_tiff.py stack.tif bad-checksum" "mvox extract stack.tif -t 10 $outputs"
 tour "TIFF: 65536x65536 tiles for a 12x10 image (146 bytes)" \
-  "python3 $work/make_odd_tiff.py tiles.tif huge-tiles" "mvox extract tiles.tif -t 10 $outputs"
+  "python3 $work/make_tiff.py tiles.tif huge-tiles" "mvox extract tiles.tif -t 10 $outputs"
 tour "TIFF: a 30000x30000 page in a 140-byte deflate file" \
-  "python3 $work/make_odd_tiff.py page.tif huge-page" "mvox extract page.tif -t 10 $outputs"
+  "python3 $work/make_tiff.py page.tif huge-page" "mvox extract page.tif -t 10 $outputs"
 # JPEG slices: pictures of the sphere that mvox itself writes with OpenCV.
 jpegs="mvox extract stack -t 128 -o sphere.ply --image sphere.jpg --image-size 64x48 -q; mkdir jpegs; cp sphere.jpg jpegs/slice_1.jpg; cp sphere.jpg jpegs/slice_2.jpg"
 tour "JPEG slice cut mid-scan and closed with FF D9" \

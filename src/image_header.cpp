@@ -1,14 +1,10 @@
 #include "image_header.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstring>
 #include <vector>
 
 #include "compression_bounds.h"
-#include "error.h"
+#include "file_bytes.h"
 
 namespace mvox {
 namespace {
@@ -52,8 +48,8 @@ std::optional<ImageHeader> png_header(const unsigned char* bytes, std::size_t si
   header.stream_bytes = png_filtered_bytes(header, kSamplesPerPixel[colour_type], bit_depth);
   for (std::size_t at = 33; size - at >= 12;) {
     const std::uint64_t length = big_endian_32(bytes + at);
-    if (std::memcmp(bytes + at + 4, "IDAT", 4) == 0) header.encoded_bytes += length;
     if (std::memcmp(bytes + at + 4, "IEND", 4) == 0 || length > size - at - 12) break;
+    if (std::memcmp(bytes + at + 4, "IDAT", 4) == 0) header.encoded_bytes += length;
     at += 12 + static_cast<std::size_t>(length);
   }
   return header;
@@ -185,23 +181,9 @@ std::optional<ImageHeader> parse_image_header(const unsigned char* bytes, std::s
 }
 
 std::optional<ImageHeader> read_image_header(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) throw Error(path, "cannot open: " + errno_text(errno));
-  std::vector<unsigned char> bytes(kMaxHeaderBytes);
-  std::size_t used = 0;
-  while (used < bytes.size()) {
-    const ssize_t got = ::read(fd, bytes.data() + used, bytes.size() - used);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) {
-      const int error = errno;
-      ::close(fd);
-      throw Error(path, "read failed: " + errno_text(error));
-    }
-    if (got == 0) break;
-    used += static_cast<std::size_t>(got);
-  }
-  ::close(fd);
-  return parse_image_header(bytes.data(), used);
+  std::vector<unsigned char> bytes;
+  read_file_bytes(path, bytes, kMaxHeaderBytes);
+  return parse_image_header(bytes.data(), bytes.size());
 }
 
 std::uint64_t decoded_image_bytes(const ImageHeader& header) {

@@ -1,10 +1,5 @@
 #include "image_stack_source.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -15,12 +10,13 @@
 #include <sstream>
 #include <utility>
 
-#include "error.h"
 #include "buffer_allocation.h"
+#include "error.h"
+#include "file_bytes.h"
 #include "image_file_check.h"
 #include "image_header.h"
-#include "slice_image_writer.h"
 #include "jpeg_slice_decoder.h"
+#include "slice_image_writer.h"
 
 namespace mvox {
 namespace {
@@ -78,30 +74,6 @@ std::string opencv_reason(const std::string& text) {
   return reason;
 }
 
-// The whole file into `bytes` (reused from slice to slice, so it stops growing).
-void read_file(const std::string& path, std::vector<unsigned char>& bytes) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw Error(path, "cannot open: " + errno_text(errno));
-  struct stat status {};
-  const bool regular = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode);
-  // One byte more than the size: the read that finds the end of the file needs room too.
-  bytes.resize((regular ? static_cast<std::size_t>(status.st_size) : 65536) + 1);
-  std::size_t used = 0;
-  for (;;) {
-    if (used == bytes.size()) bytes.resize(2 * bytes.size());
-    const ssize_t got = ::read(fd, bytes.data() + used, bytes.size() - used);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) {
-      const int read_error = errno;
-      ::close(fd);
-      throw Error(path, "read failed: " + errno_text(read_error));
-    }
-    if (got == 0) break;
-    used += static_cast<std::size_t>(got);
-  }
-  ::close(fd);
-  bytes.resize(used);
-}
 
 // Refuses an image whose header shows it is not a slice like `info` (the first slice, named
 // `first`), before anything is decoded: not grey, too large, or of another size or depth.
@@ -133,7 +105,7 @@ cv::Mat read_image(const std::string& path, std::vector<unsigned char>& bytes,
                    const VolumeInfo& info, const std::string& first) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw Error(path, "no such file");
-  read_file(path, bytes);
+  read_file_bytes(path, bytes);  // reused from slice to slice, so it stops growing
   // A truncated PNG or JPEG would make libpng or libjpeg print on standard error, or decode
   // into a wrong slice (image_file_check.h).
   const std::string problem = image_file_problem(bytes.data(), bytes.size());

@@ -1,10 +1,5 @@
 #include "ply_reader.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -12,6 +7,7 @@
 #include <string_view>
 
 #include "error.h"
+#include "file_bytes.h"
 
 namespace mvox {
 namespace {
@@ -635,27 +631,8 @@ PlyMesh parse_ply(const void* data, std::size_t size, const std::string& name_fo
 }
 
 PlyMesh read_ply(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw Error(path, "cannot open file: " + errno_text(errno));
-  std::vector<char> bytes;
-  struct stat status {};
-  if (::fstat(fd, &status) == 0 && S_ISREG(status.st_mode) && status.st_size > 0) {
-    bytes.reserve(static_cast<std::size_t>(status.st_size));
-  }
-  // Read to the end rather than trusting st_size: pipes and /proc files report 0.
-  std::vector<char> chunk(std::size_t{1} << 20);
-  for (;;) {
-    const ssize_t got = ::read(fd, chunk.data(), chunk.size());
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) {
-      const int error = errno;
-      ::close(fd);
-      throw Error(path, "read failed: " + errno_text(error));
-    }
-    if (got == 0) break;
-    bytes.insert(bytes.end(), chunk.data(), chunk.data() + got);
-  }
-  ::close(fd);
+  std::vector<unsigned char> bytes;
+  read_file_bytes(path, bytes);
   return parse_ply(bytes.data(), bytes.size(), path);
 }
 

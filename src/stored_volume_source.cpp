@@ -8,6 +8,7 @@
 #include "buffer_allocation.h"
 #include "compression_bounds.h"
 #include "error.h"
+#include "message_line.h"
 
 namespace fs = std::filesystem;
 
@@ -153,13 +154,15 @@ std::string read_file_start(RawFile& file, std::size_t max_bytes) {
 std::string resolve_data_file(const std::string& header_path, const std::string& data_file) {
   fs::path path(data_file);
   if (path.is_relative()) path = fs::path(header_path).parent_path() / path;
+  // The name comes from the header, whatever bytes it holds (a NUL among them): shown escaped.
+  const std::string shown = one_line(path.string());
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   if (!fs::exists(status)) {
-    throw Error(header_path, "data file " + path.string() + " does not exist");
+    throw Error(header_path, "data file " + shown + " does not exist");
   }
   if (fs::is_directory(status)) {
-    throw Error(header_path, "data file " + path.string() + " is a directory");
+    throw Error(header_path, "data file " + shown + " is a directory");
   }
   // Opening a FIFO waits for a writer, forever if none comes; and a header's offsets and sizes
   // mean nothing in a stream. (A raw volume may still be a pipe: there the user says so.)
@@ -167,7 +170,7 @@ std::string resolve_data_file(const std::string& header_path, const std::string&
     const char* kind = fs::is_fifo(status)     ? "a FIFO"
                        : fs::is_socket(status) ? "a socket"
                                                : "a device";
-    throw Error(header_path, "data file " + path.string() + " is " + kind + ", not a regular file");
+    throw Error(header_path, "data file " + shown + " is " + kind + ", not a regular file");
   }
   return path.string();
 }

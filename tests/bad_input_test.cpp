@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "command_runner.h"
+#include "file_io.h"
 #include "jpeg_damage.h"
 #include "mvox_process.h"
 #include "refusal.h"
@@ -40,6 +41,9 @@ namespace fs = std::filesystem;
 namespace mvox {
 namespace {
 
+using test::read_bytes;
+using test::write_bytes;
+
 using test::CommandResult;
 using test::MvoxProcess;
 using test::run_mvox;
@@ -48,19 +52,6 @@ using test::ScratchDirectory;
 // Every output a job can write, each with a previous version that must survive.
 const char* const kPreviousOutputs[] = {"previous.ply", "previous.png", "previous.json"};
 const std::string kOutputs = " -o previous.ply --image previous.png --stats previous.json -q";
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-  ASSERT_TRUE(out.good()) << path;
-}
 
 // Writes into a FIFO that mvox reads, never waiting more than 30 s for mvox: a broken mvox
 // must fail the test, not hang it.

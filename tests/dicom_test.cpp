@@ -564,16 +564,21 @@ void put_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
 }
 
+// A 33x24 image of 16-bit samples, uncompressed: the file the codestream tests recode.
+void write_plain_33x24(const std::string& path) {
+  DicomSliceSpec spec;
+  spec.width = 33;
+  spec.height = 24;
+  spec.stored = pattern(33, 24, 0);
+  test::write_dicom(path, spec);
+}
+
 // GDCM sizes its output from the DICOM header and trusts the codestream to agree; where they
 // disagree it corrupts the heap or aborts. These files would crash mvox without the checks in
 // dicom_codestream.cpp.
 TEST(DicomSeries, CodestreamsThatDisagreeWithTheHeaderAreRefusedBeforeDecoding) {
   ScratchDirectory dir;
-  DicomSliceSpec spec;
-  spec.width = 33;
-  spec.height = 24;
-  spec.stored = pattern(33, 24, 0);
-  test::write_dicom(dir / "plain.dcm", spec);
+  write_plain_33x24(dir / "plain.dcm");
   struct Case {
     const char* syntax;
     std::function<bool(std::string&)> corrupt;  // false when the place to corrupt is missing
@@ -634,11 +639,7 @@ TEST(DicomSeries, CodestreamsThatDisagreeWithTheHeaderAreRefusedBeforeDecoding) 
 // codec's largest ratio, compression_bounds.h) is refused before GDCM allocates for it.
 TEST(DicomSeries, CompressedFramesTooShortForTheirDeclaredSizeAreRefused) {
   ScratchDirectory dir;
-  DicomSliceSpec spec;
-  spec.width = 33;
-  spec.height = 24;
-  spec.stored = pattern(33, 24, 0);
-  test::write_dicom(dir / "plain.dcm", spec);
+  write_plain_33x24(dir / "plain.dcm");
   for (const char* syntax : {test::kRleLosslessUid, test::kJpegLosslessUid}) {
     SCOPED_TRACE(syntax);
     ScratchDirectory one;

@@ -16,6 +16,7 @@
 #include "command_runner.h"
 #include "deflate.h"
 #include "refusal.h"
+#include "tiff_bytes.h"
 
 namespace fs = std::filesystem;
 
@@ -136,6 +137,19 @@ TEST_F(LyingHeaders, APngLargerThanTheMemoryBudgetIsRefusedFromItsHeader) {
       << dry.output;
   EXPECT_FALSE(fs::exists(dir_.path() / "mesh.ply"));
   EXPECT_LT(peak_child_mebibytes(), kPeakLimitMebibytes);
+}
+
+// The same for a TIFF page: a deflate strip of 64 MB of samples, honest, over the budget.
+TEST_F(LyingHeaders, ATiffPageLargerThanTheMemoryBudgetIsRefusedFromItsDirectory) {
+  constexpr std::uint32_t kSide = 8000;
+  test::TiffPageBytes page;
+  page.width = page.height = kSide;
+  page.compression = 8;  // deflate
+  page.chunks = {test::zlib_compressed(std::vector<unsigned char>(std::size_t{kSide} * kSide, 0))};
+  const std::vector<unsigned char> file = test::tiff_file_bytes({page});
+  write_file(dir_.path() / "page.tif", "", file);
+  expect_refused("extract page.tif -t 1 --max-memory 200M", "page.tif",
+                 "over the --max-memory 200M budget of 200 MiB");
 }
 
 // The gzip trailer records the data's size (modulo 2^32), and mvox takes a matching trailer at

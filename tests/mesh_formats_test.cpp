@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "command_runner.h"
+#include "file_io.h"
 #include "mesh_capture.h"
 #include "mesh_format.h"
 #include "mesh_topology.h"
@@ -36,6 +37,9 @@
 
 namespace mvox {
 namespace {
+
+using test::read_bytes;
+using test::write_bytes;
 
 using test::ScratchDirectory;
 
@@ -92,10 +96,6 @@ std::size_t triangles_of(const PlyMesh& ply) {
   for (std::size_t f = 0; f < ply.face_count(); ++f)
     triangles += ply.face_offsets[f + 1] - ply.face_offsets[f] - 2;
   return triangles;
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
 }
 
 MeshWriterOptions described(const std::string& comment, bool triangulate = false) {

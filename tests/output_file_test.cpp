@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "command_runner.h"
+#include "file_io.h"
 #include "error.h"
 #include "output_file.h"
 #include "termination.h"
@@ -23,19 +24,10 @@ namespace fs = std::filesystem;
 namespace mvox {
 namespace {
 
+using test::read_bytes;
+using test::write_bytes;
+
 using test::ScratchDirectory;
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-void write_bytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-}
 
 // A temporary of the output registry holding `bytes`, as OutputFile makes them.
 int make_temporary(const fs::path& directory, const std::string& bytes) {

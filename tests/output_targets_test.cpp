@@ -16,6 +16,7 @@
 #include <string>
 
 #include "command_runner.h"
+#include "file_io.h"
 #include "ply_reader.h"
 #include "refusal.h"
 
@@ -24,20 +25,11 @@ namespace fs = std::filesystem;
 namespace mvox {
 namespace {
 
+using test::read_bytes;
+using test::write_bytes;
+
 using test::run_mvox;
 using test::ScratchDirectory;
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-void write_bytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-}
 
 class OutputTargets : public ::testing::Test {
  protected:

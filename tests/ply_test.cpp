@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "file_io.h"
 #include "error.h"
 #include "output_file.h"
 #include "ply_reader.h"
@@ -27,6 +28,9 @@
 
 namespace mvox {
 namespace {
+
+using test::read_bytes;
+using test::write_bytes;
 
 // HELPERS -------------------------------------------------------------------------------------
 
@@ -65,17 +69,6 @@ class TempDir {
 bool exists(const std::string& path) {
   struct stat status {};
   return ::stat(path.c_str(), &status) == 0;
-}
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
 }
 
 Vertex vertex(float x, float y, float z) {

@@ -1,9 +1,10 @@
 #include "tiff_bytes.h"
 
 #include <gtest/gtest.h>
-#include <zlib.h>
 
 #include <utility>
+
+#include "deflate.h"
 
 namespace mvox::test {
 namespace {
@@ -101,11 +102,7 @@ std::vector<unsigned char> tiff_file_bytes(const std::vector<TiffPageBytes>& pag
 }
 
 std::vector<unsigned char> zlib_compressed(const std::vector<unsigned char>& bytes) {
-  uLongf size = compressBound(static_cast<uLong>(bytes.size()));
-  std::vector<unsigned char> out(size);
-  EXPECT_EQ(compress(out.data(), &size, bytes.data(), static_cast<uLong>(bytes.size())), Z_OK);
-  out.resize(size);
-  return out;
+  return deflate_bytes(bytes, false);
 }
 
 }  // namespace mvox::test
