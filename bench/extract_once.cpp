@@ -20,7 +20,7 @@
 
 #include "in_memory_extract.h"
 #include "paper_datasets.h"
-#include "stats_json.h"
+#include "write/stats_json.h"
 
 namespace mvox::bench {
 namespace {

@@ -17,10 +17,10 @@
 #include "bench_arguments.h"
 #include "error.h"
 #include "in_memory_extract.h"
-#include "mesh_job.h"
+#include "pipeline/mesh_job.h"
 #include "paper_datasets.h"
-#include "pipeline.h"
-#include "ply_writer.h"
+#include "pipeline/pipeline.h"
+#include "write/mesh/ply_writer.h"
 
 namespace mvox::bench {
 namespace {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "slice_source_factory.h"
+#include "read/slice_source_factory.h"
 
 namespace mvox::bench {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mvox/slice_source.h"
-#include "raw_format.h"
+#include "read/raw/raw_format.h"
 
 namespace mvox::bench {
 

@@ -23,7 +23,7 @@
 
 #include "bar_chart.h"
 #include "bench_arguments.h"
-#include "mesh_job.h"
+#include "pipeline/mesh_job.h"
 #include "mvox/camera.h"
 #include "mvox/engine.h"
 #include "mvox/render_sink.h"

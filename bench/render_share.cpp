@@ -24,7 +24,7 @@
 
 #include "bench_arguments.h"
 #include "counting_sink.h"
-#include "mesh_job.h"
+#include "pipeline/mesh_job.h"
 #include "mvox/camera.h"
 #include "mvox/engine.h"
 #include "mvox/render_sink.h"
@@ -32,7 +32,7 @@
 #include "mvox/vertex_normals.h"
 #include "mvox/zbuffer_renderer.h"
 #include "paper_datasets.h"
-#include "slice_image_writer.h"
+#include "write/slice_image_writer.h"
 #include "stream.h"
 #include "workspace_buffer.h"
 

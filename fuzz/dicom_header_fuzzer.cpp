@@ -1,5 +1,5 @@
-// Fuzzes mvox's own DICOM element walk and header checks (src/dicom_file_scan.h,
-// src/dicom_header.h, src/dicom_codestream.h): the code that decides whether a file is safe to
+// Fuzzes mvox's own DICOM element walk and header checks (src/read/dicom/dicom_file_scan.h,
+// src/read/dicom/dicom_header.h, src/read/dicom/dicom_codestream.h): the code that decides whether a file is safe to
 // hand to GDCM, whose Debian build aborts or corrupts memory on malformed files. GDCM itself is
 // not called here.
 //
@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-#include "dicom_header.h"
+#include "read/dicom/dicom_header.h"
 #include "error.h"
 #include "fuzz_check.h"
 #include "memory_file.h"

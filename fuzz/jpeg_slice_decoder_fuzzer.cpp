@@ -1,4 +1,4 @@
-// Fuzzes the strict JPEG slice decoder (src/jpeg_slice_decoder.h): mvox's libjpeg error
+// Fuzzes the strict JPEG slice decoder (src/read/image_stack/jpeg_slice_decoder.h): mvox's libjpeg error
 // manager, which turns every warning into an error, jumps out of libjpeg and destroys it.
 //
 // Input: the bytes of a JPEG file. Properties: the decoder either refuses in one printable line
@@ -14,7 +14,7 @@
 
 #include "error.h"
 #include "fuzz_check.h"
-#include "jpeg_slice_decoder.h"
+#include "read/image_stack/jpeg_slice_decoder.h"
 
 namespace {
 

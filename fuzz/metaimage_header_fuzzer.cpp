@@ -1,4 +1,4 @@
-// libFuzzer target for parse_metaimage_header (src/metaimage_header.h): any bytes must either
+// libFuzzer target for parse_metaimage_header (src/read/metaimage/metaimage_header.h): any bytes must either
 // parse or be refused with mvox::Error; anything else (a crash, another exception, a sanitizer
 // report) is a bug. Seeds: fuzz/corpus/metaimage_header_fuzzer/.
 #include <cstddef>
@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "error.h"
-#include "metaimage_header.h"
+#include "read/metaimage/metaimage_header.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

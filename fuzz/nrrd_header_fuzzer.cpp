@@ -1,4 +1,4 @@
-// libFuzzer target for parse_nrrd_header (src/nrrd_header.h): any bytes must either parse or
+// libFuzzer target for parse_nrrd_header (src/read/nrrd/nrrd_header.h): any bytes must either parse or
 // be refused with mvox::Error; anything else (a crash, another exception, a sanitizer report)
 // is a bug. Seeds: fuzz/corpus/nrrd_header_fuzzer/.
 #include <cstddef>
@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "error.h"
-#include "nrrd_header.h"
+#include "read/nrrd/nrrd_header.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

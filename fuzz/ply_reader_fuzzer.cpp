@@ -1,4 +1,4 @@
-// Fuzzes the strict PLY reader (src/ply_reader.h) with arbitrary bytes: ASCII and binary
+// Fuzzes the strict PLY reader (src/read/ply/ply_reader.h) with arbitrary bytes: ASCII and binary
 // headers and bodies. Properties: it refuses with a one-line error naming the file, or returns
 // a mesh that keeps every promise of PlyMesh: face offsets that start at 0 and never decrease,
 // every index below the vertex count, finite coordinates, and normals for all vertices or none.
@@ -9,7 +9,7 @@
 
 #include "error.h"
 #include "fuzz_check.h"
-#include "ply_reader.h"
+#include "read/ply/ply_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   mvox::PlyMesh mesh;

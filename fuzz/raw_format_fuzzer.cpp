@@ -1,4 +1,4 @@
-// Fuzzes the --raw spec parser (src/raw_format.h) with arbitrary text. Properties: it either
+// Fuzzes the --raw spec parser (src/read/raw/raw_format.h) with arbitrary text. Properties: it either
 // refuses with a one-line error naming --raw, or returns a format whose sizes are consistent and
 // that reads back the same from its own text.
 #include <cstddef>
@@ -7,7 +7,7 @@
 
 #include "error.h"
 #include "fuzz_check.h"
-#include "raw_format.h"
+#include "read/raw/raw_format.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string spec(reinterpret_cast<const char*>(data), size);

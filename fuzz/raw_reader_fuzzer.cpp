@@ -1,4 +1,4 @@
-// Fuzzes the raw readers (src/raw_volume_source.h, src/raw_slices_source.h) and the engine
+// Fuzzes the raw readers (src/read/raw/raw_volume_source.h, src/read/raw/raw_slices_source.h) and the engine
 // behind them with an arbitrary file and a fuzzed --raw spec.
 //
 // Input: a spec, a newline, then the file's bytes. WxHxD:TYPE reads the bytes as one volume,
@@ -19,9 +19,9 @@
 #include "error.h"
 #include "fuzz_check.h"
 #include "memory_file.h"
-#include "pipeline.h"
-#include "raw_format.h"
-#include "slice_source_factory.h"
+#include "pipeline/pipeline.h"
+#include "read/raw/raw_format.h"
+#include "read/slice_source_factory.h"
 
 namespace {
 

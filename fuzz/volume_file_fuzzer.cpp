@@ -1,5 +1,5 @@
 // Fuzzes whole NRRD and MetaImage files, header and data, through the readers behind
-// `mvox extract` (src/nrrd_file.h, src/metaimage_file.h, src/stored_volume_source.h).
+// `mvox extract` (src/read/nrrd/nrrd_file.h, src/read/metaimage/metaimage_file.h, src/read/stored_volume_source.h).
 //
 // Input: one byte choosing the format (even: NRRD, odd: MetaImage), then the file. Properties:
 // a file is refused with one printable line, or it streams exactly the declared slices; and
@@ -11,12 +11,12 @@
 #include <cstdint>
 #include <memory>
 
-#include "compression_bounds.h"
+#include "read/compression_bounds.h"
 #include "error.h"
 #include "fuzz_check.h"
 #include "memory_file.h"
-#include "metaimage_file.h"
-#include "nrrd_file.h"
+#include "read/metaimage/metaimage_file.h"
+#include "read/nrrd/nrrd_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;

@@ -603,7 +603,7 @@ INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt, ::testing::Values(SIGINT, SIGTERM,
 
 // A job that fails mid-volume while the FIFO it reads from stays open and silent: the reading
 // thread is blocked in read(), and mvox must still end at once with its error (read
-// cancellation, src/read_cancellation.h), not wait for a writer that may never close.
+// cancellation, src/read/read_cancellation.h), not wait for a writer that may never close.
 TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
   std::vector<std::string> job = interrupted_job();

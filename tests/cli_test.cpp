@@ -13,9 +13,9 @@
 #include "mvox_process.h"
 #include "phantom_factory.h"
 #include "ply_mesh.h"
-#include "ply_reader.h"
+#include "read/ply/ply_reader.h"
 #include "simulated_scanner.h"
-#include "stats_json.h"
+#include "write/stats_json.h"
 
 namespace mvox {
 namespace {

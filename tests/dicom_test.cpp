@@ -17,17 +17,17 @@
 #include <random>
 
 #include "command_runner.h"
-#include "dicom_input.h"
-#include "dicom_series_source.h"
-#include "dicom_values.h"
+#include "read/dicom/dicom_input.h"
+#include "read/dicom/dicom_series_source.h"
+#include "read/dicom/dicom_values.h"
 #include "dicom_writer.h"
 #include "error.h"
 #include "mesh_capture.h"
 #include "mesh_topology.h"
 #include "ply_mesh.h"
-#include "ply_reader.h"
+#include "read/ply/ply_reader.h"
 #include "shapes.h"
-#include "slice_source_factory.h"
+#include "read/slice_source_factory.h"
 
 namespace mvox {
 namespace {

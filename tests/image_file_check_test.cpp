@@ -1,6 +1,6 @@
 // image_file_check.h: PNG and JPEG files are refused when truncated or corrupt, before libpng
 // or libjpeg print on standard error or decode a wrong slice; intact files pass.
-#include "image_file_check.h"
+#include "read/image_stack/image_file_check.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The slice image header reader (src/image_header.h): what PNG, JPEG, BMP and PNM headers
+// The slice image header reader (src/read/image_stack/image_header.h): what PNG, JPEG, BMP and PNM headers
 // declare, checked against OpenCV's decoding of the same files, and the sizes refused before
 // any decoder sees them.
 #include <gtest/gtest.h>
@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "compression_bounds.h"
+#include "read/compression_bounds.h"
 #include "deflate.h"
-#include "image_header.h"
+#include "read/image_stack/image_header.h"
 
 namespace mvox {
 namespace {

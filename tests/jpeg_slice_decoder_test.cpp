@@ -2,7 +2,7 @@
 // libjpeg is the same Debian library); damage that libjpeg only warns about is refused in one
 // mvox::Error naming the file, with nothing on standard error; colour, lying headers and
 // allocation failures are refused too.
-#include "jpeg_slice_decoder.h"
+#include "read/image_stack/jpeg_slice_decoder.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // LiveWindow: the reasons it gives when there is no window to be had, and a real window on a
 // private X server (Xvfb) when one can be started. gtest_discover_tests runs every test in its
 // own process, so changing DISPLAY here touches no other test.
-#include "live_window.h"
+#include "picture/live_window.h"
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -25,7 +25,7 @@
 #include <thread>
 #include <vector>
 
-#include "display_probe.h"
+#include "picture/display_probe.h"
 
 namespace mvox {
 namespace {

@@ -1,4 +1,4 @@
-// A run's memory, known before reading (src/memory_plan.h): sizes as users write and read them,
+// A run's memory, known before reading (src/pipeline/memory_plan.h): sizes as users write and read them,
 // the default budget, --dry-run (the plan, no slice read, nothing written), --max-memory (a run
 // over it refused up front), the plan against the memory a run really took, and running out
 // of memory anyway (one line, not "std::bad_alloc").
@@ -13,7 +13,7 @@
 
 #include "command_runner.h"
 #include "error.h"
-#include "memory_plan.h"
+#include "pipeline/memory_plan.h"
 #include "refusal.h"
 
 namespace fs = std::filesystem;

@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "command_runner.h"
-#include "mesh_job.h"
+#include "pipeline/mesh_job.h"
 #include "mesh_topology.h"
 #include "obj_reader.h"
 #include "ply_mesh.h"
-#include "ply_reader.h"
+#include "read/ply/ply_reader.h"
 #include "stl_reader.h"
 
 namespace mvox {

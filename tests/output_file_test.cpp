@@ -1,5 +1,5 @@
-// OutputFile and the publishing of several outputs together (src/output_file.h,
-// src/termination.h): all or none, even when a rename fails after another succeeded.
+// OutputFile and the publishing of several outputs together (src/write/output_file.h,
+// src/pipeline/termination.h): all or none, even when a rename fails after another succeeded.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/fs.h>
@@ -16,8 +16,8 @@
 #include "command_runner.h"
 #include "file_io.h"
 #include "error.h"
-#include "output_file.h"
-#include "termination.h"
+#include "write/output_file.h"
+#include "pipeline/termination.h"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-// No output may replace an input, or another output (src/output_targets.h), whatever the names:
+// No output may replace an input, or another output (src/write/output_targets.h), whatever the names:
 // each way a user can point an output at a file that matters, run through the real command
 // line. A refusal is a usage error (exit 2) found before anything is read or written, and the
 // whole directory, inputs included, stays byte for byte as it was. Outputs that only share a
@@ -17,7 +17,7 @@
 
 #include "command_runner.h"
 #include "file_io.h"
-#include "ply_reader.h"
+#include "read/ply/ply_reader.h"
 #include "refusal.h"
 
 namespace fs = std::filesystem;

@@ -21,7 +21,7 @@
 
 #include "command_runner.h"
 #include "mvox_process.h"
-#include "ply_reader.h"
+#include "read/ply/ply_reader.h"
 
 namespace mvox {
 namespace {

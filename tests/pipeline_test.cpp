@@ -1,7 +1,7 @@
 // run_pipeline's phase times: each sink's time is its own (the timer shares one clock reading
 // between the end of one interval and the start of the next, and must not count anything
 // twice), and a source that times itself gives the read time.
-#include "pipeline.h"
+#include "pipeline/pipeline.h"
 
 #include <gtest/gtest.h>
 

@@ -21,9 +21,9 @@
 
 #include "file_io.h"
 #include "error.h"
-#include "output_file.h"
-#include "ply_reader.h"
-#include "ply_writer.h"
+#include "write/output_file.h"
+#include "read/ply/ply_reader.h"
+#include "write/mesh/ply_writer.h"
 #include "stdout_redirect.h"
 
 namespace mvox {

@@ -1,8 +1,8 @@
-// --triangulate (src/polygon_triangulation.h): every polygon of all 256 cube configurations, for
+// --triangulate (src/write/mesh/polygon_triangulation.h): every polygon of all 256 cube configurations, for
 // both surface rules, splits into triangles whose diagonals run inside the cube; marching cubes'
 // own triangles already do; and on random volumes holding every configuration the triangulated
 // file is closed, edge-manifold and consistently wound, and each polygon's triangles cover it.
-#include "polygon_triangulation.h"
+#include "write/mesh/polygon_triangulation.h"
 
 #include <gtest/gtest.h>
 
@@ -20,8 +20,8 @@
 #include "marching_cubes_table.h"
 #include "mesh_capture.h"
 #include "mesh_topology.h"
-#include "ply_reader.h"
-#include "ply_writer.h"
+#include "read/ply/ply_reader.h"
+#include "write/mesh/ply_writer.h"
 #include "random_phantoms.h"
 #include "simulated_scanner.h"
 

@@ -2,7 +2,7 @@
 // source's slices, in batches bounded by bytes, never reads more than two batches ahead, hands a
 // slow input over slice by slice, rethrows a reader's error at the slice where it happened, and
 // stops cleanly when the caller gives up mid-volume.
-#include "prefetching_source.h"
+#include "pipeline/prefetching_source.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The progress line: drawn only when enabled, first and last slice always drawn, and still
 // redrawn after a pause that follows a burst of fast slices (it looks at the clock only every
 // few slices when slices are fast).
-#include "progress.h"
+#include "pipeline/progress.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

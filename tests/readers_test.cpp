@@ -24,13 +24,13 @@
 #include "error.h"
 #include "error_capture.h"
 #include "gtest/gtest.h"
-#include "image_stack_source.h"
-#include "input_files.h"
-#include "natural_sort.h"
-#include "raw_format.h"
-#include "raw_slices_source.h"
-#include "raw_volume_source.h"
-#include "slice_source_factory.h"
+#include "read/image_stack/image_stack_source.h"
+#include "read/input_files.h"
+#include "read/natural_sort.h"
+#include "read/raw/raw_format.h"
+#include "read/raw/raw_slices_source.h"
+#include "read/raw/raw_volume_source.h"
+#include "read/slice_source_factory.h"
 
 namespace fs = std::filesystem;
 

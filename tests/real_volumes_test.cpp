@@ -9,8 +9,8 @@
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
-#include "raw_format.h"
-#include "slice_source_factory.h"
+#include "read/raw/raw_format.h"
+#include "read/slice_source_factory.h"
 
 namespace mvox {
 namespace {

@@ -20,16 +20,16 @@
 #include "error.h"
 #include "error_capture.h"
 #include "gtest/gtest.h"
-#include "image_stack_source.h"
+#include "read/image_stack/image_stack_source.h"
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
-#include "raw_volume_source.h"
-#include "slice_source_factory.h"
+#include "read/raw/raw_volume_source.h"
+#include "read/slice_source_factory.h"
 #include "tiff_bytes.h"
-#include "tiff_stack_source.h"
+#include "read/tiff/tiff_stack_source.h"
 #include "volume_samples.h"
-#include "zlib_stream_check.h"
+#include "read/zlib_stream_check.h"
 
 namespace fs = std::filesystem;
 

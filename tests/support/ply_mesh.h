@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "mesh_capture.h"
-#include "ply_reader.h"
+#include "read/ply/ply_reader.h"
 
 namespace mvox::test {
 

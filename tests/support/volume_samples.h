@@ -14,7 +14,7 @@
 #include "mvox/slice_source.h"
 #include "phantom.h"
 #include "phantom_factory.h"
-#include "raw_format.h"
+#include "read/raw/raw_format.h"
 
 namespace mvox::test {
 

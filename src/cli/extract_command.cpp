@@ -1,0 +1,195 @@
+// mvox extract INPUT... -t D -o mesh.ply|.stl|.obj: the main job.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "cli/cli_options.h"
+#include "cli/commands.h"
+#include "error.h"
+#include "read/input_files.h"
+#include "pipeline/memory_plan.h"
+#include "pipeline/mesh_job.h"
+#include "message_line.h"
+#include "read/raw/raw_format.h"
+#include "read/slice_source_factory.h"
+#include "pipeline/termination.h"
+#include "read/volume_files.h"
+
+namespace mvox {
+namespace {
+
+struct ExtractArguments {
+  std::vector<std::string> inputs;
+  std::string raw_spec;
+  DicomChoice dicom;
+  double threshold = 0;
+  std::string output;
+  std::string stats_path;
+  bool quiet = false;
+  EngineChoice engine;
+  MeshChoice mesh;
+  bool normals = false;
+  PictureChoice picture;
+  std::string max_memory;  // as given; empty: the default budget
+  bool dry_run = false;
+};
+
+// A threshold beyond what the samples can hold makes no voxel inner, or every voxel: an empty
+// file or a box, after a full run. Refused before reading, naming the input and its type.
+void check_threshold_range(const std::string& input, SampleType type, double threshold) {
+  double lowest = 0, highest = 0;
+  switch (type) {
+    case SampleType::u8: highest = 255; break;
+    case SampleType::u16: highest = 65535; break;
+    case SampleType::i16: lowest = -32768, highest = 32767; break;
+    case SampleType::f32: return;  // any finite threshold can split float samples
+  }
+  char problem[160];
+  if (threshold > highest)
+    std::snprintf(problem, sizeof problem,
+                  "threshold %g is above the largest %s sample (%g): no voxel would be inner",
+                  threshold, sample_type_name(type), highest);
+  else if (threshold <= lowest)
+    std::snprintf(problem, sizeof problem,
+                  "threshold %g is not above the smallest %s sample (%g): every voxel would be "
+                  "inner",
+                  threshold, sample_type_name(type), lowest);
+  else
+    return;
+  throw Error(input, problem);
+}
+
+void run_extract(const ExtractArguments& args) {
+  const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
+  if (args.normals && format == MeshFormat::stl)
+    throw CLI::ValidationError("--normals",
+                               "STL has face normals only; write PLY or OBJ for vertex normals");
+  // --raw describes headerless files; a NRRD or MetaImage file describes itself. Asking for
+  // both is a usage error (exit 2), found before any file is opened.
+  for (const std::string& input : args.inputs) {
+    const HeaderedFormat headered = headered_format(input);
+    if (!args.raw_spec.empty() && headered != HeaderedFormat::none) {
+      throw CLI::ValidationError("--raw", input + " is a " + headered_format_name(headered) +
+                                              " file with its own header; leave --raw out");
+    }
+  }
+  // An interrupt while the input is opened (a FIFO waiting for its writer) names it.
+  set_interrupt_subject(inputs_label(args.inputs));
+  std::optional<RawFormat> raw;
+  if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
+  // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
+  const auto open_start = std::chrono::steady_clock::now();
+  // Notes about the input (which DICOM series, fallbacks) wait until it has been accepted, so
+  // that a refusal before the run stays one line.
+  std::vector<std::string> notes;
+  DicomChoice dicom = args.dicom;
+  if (!args.quiet) dicom.note = [&notes](const std::string& line) { notes.push_back(line); };
+  OpenedInput input = open_input(args.inputs, raw, dicom);
+  std::unique_ptr<SliceSource>& source = input.source;
+  const VolumeInfo& info = source->info();
+  check_threshold_range(inputs_label(args.inputs), info.type, args.threshold);
+  for (const std::string& line : notes) print_message("note", line);
+
+  MeshJob job;
+  job.source_open_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - open_start).count();
+  job.input_label = inputs_label(args.inputs);
+  job.input_files = std::move(input.files);
+  job.threshold = args.threshold;
+  job.engine = args.engine.options();
+  job.output = args.output;
+  job.format = format;
+  job.stats_path = args.stats_path;
+  job.quiet = args.quiet;
+  char comment[160];
+  if (job.engine.method == SurfaceMethod::cubes)
+    std::snprintf(comment, sizeof comment, "mvox marching cubes, threshold %g", args.threshold);
+  else
+    std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
+                  args.threshold, engine_kind_name(job.engine.kind),
+                  surface_rule_name(job.engine.rule));
+  job.mesh = mesh_writer_options(args.mesh, info, job.input_label, comment);
+  job.normals = args.normals;
+  job.picture = args.picture.options();
+  if (args.max_memory.empty()) {
+    job.budget = default_memory_budget();
+  } else {
+    job.budget.bytes = *parse_memory_size(args.max_memory);  // checked while parsing
+    job.budget.source = "--max-memory " + args.max_memory;
+  }
+  job.dry_run = args.dry_run;
+  run_mesh_job(*source, job);
+}
+
+}  // namespace
+
+void add_extract_command(CLI::App& app) {
+  auto args = std::make_shared<ExtractArguments>();
+  CLI::App* command = app.add_subcommand(
+      "extract",
+      "Extract the surface at threshold D (inner voxels: value >= D) and write it as a mesh "
+      "(PLY, STL or OBJ), a shaded picture, or both");
+  command
+      ->add_option("INPUT", args->inputs,
+                   "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images (TIFF files "
+                   "may hold many pages), a DICOM series (a directory or files; recognised by "
+                   "content), one NRRD (.nrrd, .nhdr) or MetaImage (.mhd, .mha) volume, raw "
+                   "slice files, or one raw volume file (with --raw)")
+      ->required();
+  command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
+      ->required()
+      ->check(finite_number());
+  command->add_option("-o,--output", args->output,
+                      "Output mesh: .ply, .stl or .obj ('-' for standard output); may be left "
+                      "out with --image");
+  command
+      ->add_option("--raw", args->raw_spec,
+                   "Headerless input: WxH:TYPE for one file per slice, WxHxD:TYPE for one "
+                   "volume file; TYPE is u8, u16le, u16be, i16le, i16be or f32le")
+      // Checked while parsing, so that a malformed spec is a usage error (exit 2) like any
+      // other malformed option value.
+      ->check(CLI::Validator(
+          [](std::string& spec) {
+            try {
+              parse_raw_format(spec);
+              return std::string();
+            } catch (const Error& e) {
+              return e.problem();
+            }
+          },
+          "WxH[xD]:TYPE"));
+  command->add_flag("--dicom", args->dicom.force,
+                    "Read INPUT as DICOM even without the DICM preamble or a .dcm name");
+  command->add_option("--series", args->dicom.series_uid,
+                      "DICOM: the SeriesInstanceUID to read (default: the series with the most "
+                      "slices)");
+  add_engine_options(*command, args->engine);
+  add_mesh_options(*command, args->mesh);
+  command->add_flag("--normals", args->normals,
+                    "Write smooth outward normals (from the density gradient) into the mesh: "
+                    "PLY nx, ny, nz or OBJ vn");
+  add_picture_options(*command, args->picture, PictureUse::extraction);
+  command->add_option("--stats", args->stats_path,
+                      "Also write a JSON report: dimensions, counts, time per phase, peak memory");
+  command
+      ->add_option("--max-memory", args->max_memory,
+                   "Refuse, before reading, a run that would take more memory than SIZE (e.g. "
+                   "64M, 2G; 'none': no limit). Default: the physical memory (or this process's "
+                   "cgroup or ulimit -v limit, if lower)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return parse_memory_size(text) ? std::string()
+                                           : "'" + text + "' is not a memory size: give e.g. "
+                                                          "512K, 64M, 2G, 1.5G, a number of "
+                                                          "bytes, or none";
+          },
+          "SIZE"));
+  command->add_flag("--dry-run", args->dry_run,
+                    "Read the input's headers only, check the outputs and the memory budget, "
+                    "print what the run would take, and stop: no slice is read, nothing written");
+  command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");
+  command->callback([args] { run_extract(*args); });
+}
+
+}  // namespace mvox

@@ -1,0 +1,87 @@
+// The mvox command line. Exit codes: 0 success, 1 a failure in the job (bad input file, write
+// error, ...), 2 a usage error (unknown option, missing argument). Every failure prints one line
+// on standard error: "mvox: error: SUBJECT: PROBLEM". An interrupt (SIGINT, SIGTERM, SIGHUP)
+// exits with 128 + the signal's number, 130 for SIGINT, and a reader that closes an output pipe
+// early ends mvox quietly, as SIGPIPE would (termination.h).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <new>
+#include <stdexcept>
+
+#include "cli/allocation_failure.h"
+#include "cli/commands.h"
+#include "error.h"
+#include "pipeline/memory_plan.h"
+#include "message_line.h"
+#include "write/standard_descriptors.h"
+#include "pipeline/termination.h"
+
+namespace {
+
+// A failed job: one line, unless it failed because the reader of an output pipe went away.
+int job_failure(const std::exception& e, int exit_code) {
+  if (mvox::broken_pipe_noted()) mvox::exit_for_broken_pipe();
+  mvox::print_message("error", e.what());
+  return exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // First, before any file is opened: a closed standard descriptor must not be reused.
+  mvox::secure_standard_descriptors();
+  // Before any thread exists: every thread must inherit the blocked interrupt signals.
+  mvox::install_termination_handling();
+  if (argc > 1 && argv[1][0] != '-') mvox::set_interrupt_subject(std::string("mvox ") + argv[1]);
+
+  CLI::App app{
+      "mvox: surface extraction by marching voxels, streamed two slices at a time in fixed "
+      "memory.\nExamples:\n"
+      "  mvox demo\n"
+      "  mvox extract 'cthead/CThead.*' --raw 256x256:u16be -t 600 --spacing 1,1,2 -o head.ply\n"
+      "  mvox extract engine_256x256x128_uint8.raw --raw 256x256x128:u8 -t 100 -o engine.ply\n"
+      "  mvox extract 'mrbrain8bit/mrbrain-8bit*.png' -t 50 -o brain.ply",
+      "mvox"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "mvox 0.1.0");
+  mvox::add_extract_command(app);
+  mvox::add_demo_command(app);
+  mvox::add_phantom_command(app);
+  mvox::add_render_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // The message quotes the option's value, which may hold a newline like anything typed.
+    mvox::print_message("error", e.what());
+    std::fputs("Run 'mvox --help' or 'mvox COMMAND --help' for usage.\n", stderr);
+    return 2;
+  } catch (const mvox::UsageError& e) {
+    mvox::print_message("error", e.what());
+    std::fputs("Run 'mvox --help' or 'mvox COMMAND --help' for usage.\n", stderr);
+    return 2;
+  } catch (const mvox::Error& e) {
+    return job_failure(e, 1);
+  } catch (const std::invalid_argument& e) {
+    return job_failure(e, 2);
+  } catch (const std::bad_alloc&) {
+    // Without this, the line would read "std::bad_alloc", naming neither input nor size.
+    const std::size_t bytes = mvox::failed_allocation_bytes();
+    return job_failure(
+        mvox::Error(mvox::interrupt_subject(),
+                    "out of memory" +
+                        (bytes > 0 ? ": an allocation of " + mvox::memory_text(bytes) + " failed"
+                                   : std::string()) +
+                        "; mvox extract --dry-run tells what a run needs"),
+        1);
+  } catch (const std::exception& e) {
+    return job_failure(e, 1);
+  }
+  return 0;
+}

@@ -1,0 +1,87 @@
+#pragma once
+// The picture side of an extraction job: a z-buffer renderer fitted to the volume, fed by the
+// engine as layers complete, with frames written every N slices, an optional live window, and
+// the final image committed together with the job's other outputs.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mvox/camera.h"
+#include "mvox/render_sink.h"
+#include "mvox/slice_source.h"
+#include "mvox/zbuffer_renderer.h"
+#include "write/output_file.h"
+
+namespace mvox {
+
+class LiveWindow;
+
+struct PictureOptions {
+  std::string image_path;  // the final picture (.png, .pgm, .tif...); empty: none
+  std::uint32_t width = 512;
+  std::uint32_t height = 512;
+  ViewOptions view;
+  Lighting lighting;
+  std::string frames_dir;  // a picture after every `every` slices; empty: none
+  std::uint32_t every = 10;
+  bool show = false;   // a live window, when there is a display
+  bool smooth = true;  // gradient normals; false: each polygon shaded flat
+
+  bool wanted() const { return !image_path.empty() || !frames_dir.empty() || show; }
+};
+
+// The name of the frame written after `slices_done` of `depth` slices: "frame_0010.png",
+// zero-padded to at least 4 digits and to as many as `depth` has, so that names sort in order.
+std::string frame_file_name(std::uint32_t slices_done, std::uint32_t depth);
+
+class SurfacePicture {
+ public:
+  // Sets up the renderer for `volume` placed with `spacing` and `origin` (as the mesh is
+  // written), drawing in the frame of the volume's box (picture_frame.h), so that the picture
+  // does not depend on the box's size or place. `normals` (borrowed, may be null) gives smooth
+  // shading. Creates the image's temporary file and the frames directory now, so that a bad path
+  // fails before a long run. Throws mvox::Error.
+  SurfacePicture(const VolumeInfo& volume, const std::array<double, 3>& spacing,
+                 const std::array<double, 3>& origin, const VertexNormals* normals,
+                 const PictureOptions& options);
+  ~SurfacePicture();
+  SurfacePicture(const SurfacePicture&) = delete;
+  SurfacePicture& operator=(const SurfacePicture&) = delete;
+
+  PolygonSink& sink() { return *sink_; }
+
+  // After each slice the engine has taken: writes a frame every `every` slices and refreshes
+  // the live window. Throws mvox::Error if a frame cannot be written.
+  void after_slice(std::uint32_t slices_done);
+  // False when after_slice() does nothing (no frames, no window), so need not be called.
+  bool follows_slices() const { return !options_.frames_dir.empty() || live_window_ != nullptr; }
+  // Seconds after_slice() has spent writing frames and updating the window: rendering time.
+  double seconds_following() const { return seconds_following_; }
+
+  // After the volume (of `slices` slices) is finished: the last frame, the window's final
+  // picture, and the image encoded and sealed (OutputFile::seal). publish() then makes it appear.
+  void complete(std::uint32_t slices);
+  void publish();
+
+  const ZBufferRenderer& renderer() const { return renderer_; }
+  // The picture's file, once complete() has sealed it (null without --image).
+  OutputFile* image_file() { return image_file_ ? &*image_file_ : nullptr; }
+
+ private:
+  void write_frame(std::uint32_t slices_done);
+
+  PictureOptions options_;
+  std::uint32_t depth_ = 0;    // slices the source announced: sets the frame names' width
+  std::vector<float> memory_;  // the renderer's workspace: float-aligned
+  ZBufferRenderer renderer_;
+  std::optional<RenderSink> sink_;
+  std::optional<OutputFile> image_file_;
+  std::unique_ptr<LiveWindow> live_window_;
+  std::uint32_t last_frame_ = 0;
+  double seconds_following_ = 0;
+};
+
+}  // namespace mvox

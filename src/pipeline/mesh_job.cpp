@@ -1,0 +1,277 @@
+#include "pipeline/mesh_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "error.h"
+#include "message_line.h"
+#include "picture/normal_window.h"
+#include "write/output_file.h"
+#include "write/output_targets.h"
+#include "pipeline/peak_memory.h"
+#include "pipeline/pipeline.h"
+#include "pipeline/prefetching_source.h"
+#include "pipeline/progress.h"
+#include "write/slice_image_writer.h"
+#include "pipeline/termination.h"
+
+namespace mvox {
+
+std::string grouped(std::uint64_t value) {
+  std::string digits = std::to_string(value);
+  for (int i = static_cast<int>(digits.size()) - 3; i > 0; i -= 3) digits.insert(i, ",");
+  return digits;
+}
+
+const char* surface_method_name(SurfaceMethod method) {
+  return method == SurfaceMethod::cubes ? "cubes" : "voxels";
+}
+
+const char* engine_kind_name(EngineKind kind) {
+  return kind == EngineKind::literal ? "literal" : "fast";
+}
+
+const char* surface_rule_name(SurfaceRule rule) {
+  return rule == SurfaceRule::paper_table1 ? "paper-table1" : "merge-rules";
+}
+
+namespace {
+
+void print_summary(const RunReport& r) {
+  const EngineCounters& c = r.result.counters;
+  const PhaseTimes& t = r.result.times;
+  const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
+  const double mebibyte = 1 << 20;
+  const std::string named = one_line(r.output.empty() ? r.image : r.output);
+  if (r.method == "cubes") {
+    std::fprintf(stderr, "%s: %s vertices, %s triangles (marching cubes)", named.c_str(),
+                 grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
+  } else {
+    std::fprintf(stderr, "%s: %s vertices, %s polygons (", named.c_str(),
+                 grouped(c.vertices).c_str(), grouped(c.polygons).c_str());
+    for (int size = 3; size <= kMaxPolygonVertices; ++size)
+      std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
+                   grouped(c.polygons_by_size[size]).c_str());
+    std::fprintf(stderr, ")");
+  }
+  // STL and --triangulate write triangles: say how many, and in which format.
+  if (!r.output.empty() && r.faces_written != c.polygons)
+    std::fprintf(stderr, ", written as %s triangles (%s)", grouped(r.faces_written).c_str(),
+                 r.format.c_str());
+  std::fprintf(stderr,
+               "\n  from %ux%ux%llu %s voxels at threshold %g: read %.3f s, extract %.3f s "
+               "(%.0f Mvoxel/s), write %.3f s, render %.3f s\n  peak memory %.1f MiB, of which "
+               "%.1f MiB for this job (planned %.1f MiB; the rest is libraries)\n",
+               r.volume.width, r.volume.height, static_cast<unsigned long long>(c.slices),
+               sample_type_name(r.volume.type), r.threshold, t.read_s, t.extract_s,
+               t.extract_s > 0 ? voxels / t.extract_s / 1e6 : 0.0, t.write_s, t.render_s,
+               static_cast<double>(r.peak_memory_bytes) / (1 << 20),
+               static_cast<double>(r.peak_memory_bytes -
+                                   std::min(r.peak_memory_bytes, r.start_memory_bytes)) /
+                   mebibyte,
+               static_cast<double>(r.memory_plan.job_bytes()) / mebibyte);
+  if (!r.image.empty())
+    std::fprintf(stderr,
+                 "  picture %s: %s triangles drawn, %s hidden or between pixels, %s facing "
+                 "away\n",
+                 one_line(r.image).c_str(), grouped(r.render.triangles_drawn).c_str(),
+                 grouped(r.render.triangles_hidden).c_str(),
+                 grouped(r.render.triangles_culled).c_str());
+}
+
+// What --dry-run prints: the input, the outputs, and the memory plan.
+void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& plan) {
+  std::printf("mvox extract --dry-run: %s, %ux%ux%u %s voxels, threshold %g\n",
+              r.input.c_str(), r.volume.width, r.volume.height, r.volume.depth,
+              sample_type_name(r.volume.type), r.threshold);
+  if (!job.output.empty())
+    std::printf("  mesh: %s (%s)\n", job.output.c_str(), mesh_format_name(job.format));
+  if (!job.picture.image_path.empty())
+    std::printf("  picture: %s (%ux%u)\n", job.picture.image_path.c_str(), job.picture.width,
+                job.picture.height);
+  if (!job.picture.frames_dir.empty())
+    std::printf("  frames: %s, every %u slices\n", job.picture.frames_dir.c_str(), job.picture.every);
+  if (!job.stats_path.empty()) std::printf("  report: %s\n", job.stats_path.c_str());
+  std::printf("memory (fixed for the whole run, whatever the number of slices):\n%s",
+              memory_plan_text(plan, job.budget).c_str());
+  std::printf("nothing read but headers, nothing written\n");
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
+                           const EngineOptions& engine) {
+  const VolumeInfo& info = source.info();
+  const std::uint64_t slice = std::uint64_t{info.width} * info.height * sample_bytes(info.type);
+  const bool picture = job.picture.wanted();
+  MemoryPlan plan;
+  plan.process_bytes = current_resident_bytes();
+  plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
+  plan.add("reader (slice and decoder buffers)", source.working_bytes());
+  plan.add("reading ahead (2 batches)", PrefetchingSource::buffer_bytes(info));
+  if (job.normals || (picture && job.picture.smooth)) plan.add("slice window (4 slices)", 4 * slice);
+  if (picture) {
+    // The z-buffer, and an encoded picture or frame: at most about one byte a pixel for the
+    // 8-bit picture, twice to allow for the encoder's own copy.
+    const std::uint64_t pixels = std::uint64_t{job.picture.width} * job.picture.height;
+    plan.add("picture (z-buffer, encoding)",
+             zbuffer_workspace_bytes(job.picture.width, job.picture.height) + 2 * pixels);
+  }
+  if (!job.output.empty()) plan.add("mesh writer buffers", mesh_writer_working_bytes(job.format));
+  return plan;
+}
+
+RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
+  RunReport report;
+  report.start_memory_bytes = current_resident_bytes();
+  report.input = job.input_label;
+  report.output = job.output;
+  report.image = job.picture.image_path;
+  report.volume = source.info();
+  // The report gives the placement the mesh and picture were made with (--spacing wins).
+  const WorldTransform& placement = job.mesh.transform;
+  for (int axis = 0; axis < 3; ++axis) {
+    report.volume.spacing[axis] = placement.spacing[axis];
+    report.volume.origin[axis] = placement.origin[axis];
+    for (int i = 0; i < 3; ++i) report.volume.axes[axis][i] = placement.axes[axis][i];
+  }
+  report.threshold = job.threshold;
+  report.method = surface_method_name(job.engine.method);
+  report.engine = engine_kind_name(job.engine.kind);
+  report.surface = surface_rule_name(job.engine.rule);
+
+  const bool want_mesh = !job.output.empty();
+  const bool want_picture = job.picture.wanted();
+  if (!want_mesh && !want_picture)
+    throw Error(job.input_label, "nothing to write: give -o mesh.ply, --image picture.png or both");
+  if (job.normals && !want_mesh) throw Error("--normals", "needs a mesh output (-o)");
+  if (job.mesh.triangulate && !want_mesh) throw Error("--triangulate", "needs a mesh output (-o)");
+  // No output may land on an input or on another output: checked before any is created.
+  std::vector<OutputTarget> targets;
+  if (want_mesh) targets.push_back({job.output, "-o", "the mesh"});
+  if (!job.picture.image_path.empty())
+    targets.push_back({job.picture.image_path, "--image", "the picture"});
+  if (!job.stats_path.empty()) targets.push_back({job.stats_path, "--stats", "the report"});
+  std::optional<FramesTarget> frames;
+  if (!job.picture.frames_dir.empty())
+    frames = FramesTarget{job.picture.frames_dir, job.picture.every, report.volume.depth};
+  check_output_targets(targets, frames, job.input_files);
+
+  // The memory the run will take, known before anything is allocated: a run that cannot fit,
+  // or slices too large to extract at all, are refused now rather than after gigabytes.
+  EngineOptions engine = job.engine;
+  engine.polygon_geometry =
+      want_picture || (want_mesh && mesh_writer_needs_geometry(job.format, job.mesh));
+  const VolumeInfo& info = report.volume;
+  if (engine_workspace_bytes(info.width, info.height, engine) == 0)
+    throw Error(job.input_label, "slices of " + std::to_string(info.width) + "x" +
+                                     std::to_string(info.height) +
+                                     " voxels are too large to extract");
+  if (want_picture) initialize_image_codecs();  // counted as library memory, not the run's
+  report.memory_plan = plan_job_memory(source, job, engine);
+  // The job's own memory is measured from here, as the plan's is.
+  report.start_memory_bytes = report.memory_plan.process_bytes;
+  report.memory_budget = job.budget;
+  check_memory_budget(report.memory_plan, job.budget, job.input_label);
+  if (job.dry_run) {
+    print_dry_run(report, job, report.memory_plan);
+    return report;
+  }
+
+  // Every output is created before extraction starts, so a bad path fails at once, not after a
+  // long run; they appear together, and only when everything has succeeded.
+  std::optional<NormalWindow> normal_window;
+  if (job.normals || (want_picture && job.picture.smooth))
+    normal_window.emplace(report.volume, placement.spacing, job.input_label);
+  const VertexNormals* normals = normal_window ? &normal_window->normals() : nullptr;
+  std::unique_ptr<MeshWriter> writer;
+  if (want_mesh) {
+    MeshWriterOptions mesh = job.mesh;
+    mesh.normals = job.normals ? normals : nullptr;
+    writer = open_mesh_writer(job.output, job.format, mesh);
+    // STL and --triangulate need each polygon's positions.
+    if (writer->needs_polygon_geometry()) engine.polygon_geometry = true;
+  }
+  std::optional<SurfacePicture> picture;
+  if (want_picture)
+    picture.emplace(report.volume, placement.spacing, placement.origin, normals, job.picture);
+  std::optional<OutputFile> stats_file;
+  if (!job.stats_path.empty()) stats_file.emplace(job.stats_path);
+
+  PipelineSinks sinks;
+  if (writer) sinks.mesh = &*writer;
+  if (picture) sinks.render = &picture->sink();
+  if (normal_window) sinks.window = &normal_window->window();
+  {
+    ProgressLine progress("extracting", report.volume.depth,
+                          !job.quiet && ProgressLine::stderr_is_terminal());
+    // Called after every slice, so only when it has something to do: a call and its timing
+    // cost more than a slice of a few voxels takes to extract.
+    SliceProgress after_slice;
+    if (progress.enabled() || (picture && picture->follows_slices()))
+      after_slice = [&](std::uint32_t done) {
+        progress.update(done);
+        if (picture) picture->after_slice(done);
+      };
+    // Reading overlaps extraction from here on; the read time reported is the time spent
+    // waiting for a slice.
+    PrefetchingSource prefetched(source);
+    report.result = run_pipeline(prefetched, job.threshold, engine, sinks, job.input_label,
+                                 after_slice, [&] { return prefetched.seconds_waiting(); });
+  }
+  if (picture) {
+    // Frames and the window's updates happened between slices: rendering, not extraction.
+    const double following = picture->seconds_following();
+    report.result.times.render_s += following;
+    report.result.times.extract_s -= following;
+  }
+  if (report.result.status == Status::sink_refused && writer && writer->error())
+    throw *writer->error();
+  if (report.result.status != Status::ok)
+    throw Error(job.input_label,
+                std::string("extraction failed: ") + status_message(report.result.status));
+
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  const auto write_start = Clock::now();
+  if (writer) {
+    writer->complete();
+    report.format = mesh_format_name(job.format);
+    report.faces_written = writer->faces_written();
+  }
+  const double write_s = seconds_since(write_start);
+  const auto render_start = Clock::now();
+  if (picture) {
+    picture->complete(static_cast<std::uint32_t>(report.result.counters.slices));
+    report.render = picture->renderer().counters();
+  }
+  const double render_s = seconds_since(render_start);
+  report.result.times.write_s += write_s;
+  report.result.times.render_s += render_s;
+  report.result.times.read_s += job.source_open_s;
+  report.result.times.total_s += write_s + render_s + job.source_open_s;
+  report.peak_memory_bytes = peak_resident_bytes();
+
+  if (stats_file) {
+    const std::string json = run_report_json(report);
+    stats_file->write(json.data(), json.size());
+    stats_file->seal();
+  }
+  // All or none: every target is checked before the first rename, and a rename that still
+  // fails brings the files already replaced back (publish_together).
+  std::vector<OutputFile*> sealed;
+  if (writer) sealed.push_back(&writer->output_file());
+  if (picture && picture->image_file()) sealed.push_back(picture->image_file());
+  if (stats_file) sealed.push_back(&*stats_file);
+  publish_together(sealed);
+  if (!job.quiet) print_summary(report);
+  return report;
+}
+
+}  // namespace mvox

@@ -1,0 +1,58 @@
+#pragma once
+// The job behind `mvox extract` and `mvox demo`: stream a slice source through the engine into a
+// mesh file (PLY, STL or OBJ), with progress, a summary line and an optional --stats report.
+#include <string>
+#include <vector>
+
+#include "pipeline/memory_plan.h"
+#include "write/mesh/mesh_format.h"
+#include "mvox/engine.h"
+#include "mvox/slice_source.h"
+#include "write/stats_json.h"
+#include "picture/surface_picture.h"
+
+namespace mvox {
+
+struct MeshJob {
+  std::string input_label;  // for messages and the report: the input as the user named it
+  double threshold = 0;     // in sample units
+  EngineOptions engine;
+  std::string output;  // mesh path, "-" for standard output; empty: no mesh (a picture only)
+  MeshFormat format = MeshFormat::ply;
+  // Placement, comments, --triangulate; its `normals` is set by the job when `normals` is true.
+  MeshWriterOptions mesh;
+  bool normals = false;  // write gradient normals (PLY nx, ny, nz; OBJ vn) into the mesh
+  PictureOptions picture;
+  std::string stats_path;    // empty: no report
+  bool quiet = false;        // no progress line, no summary
+  double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
+  // Every file the source reads: no output may replace one (output_targets.h).
+  std::vector<std::string> input_files;
+  // The most memory the run may take (memory_plan.h): checked against the plan before
+  // anything is allocated or read. Zero bytes: no limit.
+  MemoryBudget budget;
+  // Plan and check only: print the plan on standard output, allocate, read and write nothing.
+  bool dry_run = false;
+};
+
+// Runs the job; throws mvox::Error naming the file or stage at fault. Before anything is
+// allocated or created, the outputs are checked against the inputs and each other
+// (output_targets.h) and the run's memory plan against job.budget. On any failure no output
+// file is left behind (or a previous one is left untouched); the mesh, the picture and the
+// report appear together at the end. Frames, written during the run, are the exception.
+RunReport run_mesh_job(SliceSource& source, const MeshJob& job);
+
+// What the job will allocate for `source` (memory_plan.h): the engine's workspace, the reader's
+// buffers, reading ahead, the slice window for normals, the picture and the mesh writer.
+// `engine` as the job will run it (polygon_geometry set when a sink needs it).
+MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
+                           const EngineOptions& engine);
+
+// "123,456": large counts are easier to read with separators.
+std::string grouped(std::uint64_t value);
+
+const char* surface_method_name(SurfaceMethod method);  // "voxels", "cubes"
+const char* engine_kind_name(EngineKind kind);
+const char* surface_rule_name(SurfaceRule rule);
+
+}  // namespace mvox

@@ -1,0 +1,31 @@
+#pragma once
+// When the command line's INPUT is a DICOM series, and opening it as one.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "read/dicom/dicom_volume_plan.h"
+#include "mvox/slice_source.h"
+
+namespace mvox {
+
+// The command line's DICOM options.
+struct DicomChoice {
+  bool force = false;      // --dicom: read INPUT as DICOM whatever it looks like
+  std::string series_uid;  // --series UID; empty: the series with the most slices
+  DicomNote note;          // where one-line remarks go (nowhere with --quiet)
+};
+
+// True when INPUT is DICOM without being told: some file it names (a directory contributes its
+// regular, non-hidden files) has no slice image extension and either the "DICM" preamble or a
+// .dcm/.dicom name. Images (PNG previews beside the series) are never opened for this. Entries
+// that cannot be read (a FIFO, a dangling link) are passed over here; open_dicom_input refuses
+// them. False, without an error, when the inputs cannot be listed: the image reader reports that.
+bool is_dicom_input(const std::vector<std::string>& inputs);
+
+// A DicomSeriesSource over every file INPUT names (list_input_files with InputKind::raw_files,
+// so a directory's other files are offered too and skipped by content).
+std::unique_ptr<SliceSource> open_dicom_input(const std::vector<std::string>& inputs,
+                                              const DicomChoice& choice);
+
+}  // namespace mvox

@@ -1,0 +1,36 @@
+#pragma once
+// Reads a volume stored as one headerless file per slice, e.g. CThead.1 ... CThead.113
+// (--raw 256x256:u16be).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "mvox/slice_source.h"
+#include "read/raw/raw_format.h"
+
+namespace mvox {
+
+// Slice k is files[k] (list_input_files sorts them); every file must hold exactly
+// format.slice_bytes() bytes, rows packed, in format.byte_order. format.depth must be 0.
+// info(): format's width, height and type, depth = files.size(), spacing 1,1,1.
+// Memory: one slice buffer, reused, allocated at the first slice; samples are swapped to native
+// order in place.
+// Throws mvox::Error: the constructor checks every file's size up front (a wrong size found
+// after an hour of streaming helps nobody); next_slice names the file on a read error.
+class RawSlicesSource : public SliceSource {
+ public:
+  RawSlicesSource(std::vector<std::string> files, const RawFormat& format);
+
+  const VolumeInfo& info() const override { return info_; }
+  bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override { return format_.slice_bytes(); }
+
+ private:
+  std::vector<std::string> files_;
+  RawFormat format_;
+  VolumeInfo info_;
+  std::vector<unsigned char> buffer_;  // the current slice, native order
+  std::size_t next_index_ = 0;
+};
+
+}  // namespace mvox

@@ -1,0 +1,47 @@
+#include "read/raw/raw_volume_source.h"
+
+#include "read/buffer_allocation.h"
+#include "error.h"
+
+namespace mvox {
+
+namespace {
+
+const RawFormat& volume_format(const RawFormat& format) {
+  if (format.depth == 0) {
+    throw Error("--raw", raw_format_text(format) +
+                             " describes one file per slice; one volume file needs WxHxD:TYPE");
+  }
+  return format;
+}
+
+}  // namespace
+
+RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format)
+    : file_(path),
+      format_(volume_format(format)),
+      slices_(file_, 0, format_.slice_bytes(), format_.depth, kChunkBytes) {
+  file_.expect_size(std::uint64_t{format_.depth} * format_.slice_bytes(),
+                    "a " + raw_format_text(format_) + " volume");
+  info_.width = format_.width;
+  info_.height = format_.height;
+  info_.depth = format_.depth;
+  info_.type = format_.type;
+}
+
+bool RawVolumeSource::next_slice(SliceView* slice) {
+  if (next_index_ >= format_.depth) {
+    // A pipe's size was not known up front: a longer stream is as wrong as a longer file.
+    if (next_index_ == format_.depth) {
+      file_.expect_end(std::uint64_t{format_.depth} * format_.slice_bytes(),
+                       "a " + raw_format_text(format_) + " volume");
+      ++next_index_;
+    }
+    return false;
+  }
+  *slice = native_slice_view(slices_.next(), format_);
+  ++next_index_;
+  return true;
+}
+
+}  // namespace mvox

@@ -1,0 +1,44 @@
+#pragma once
+// Reads a volume stored as one headerless file of all slices back to back, e.g.
+// engine_256x256x128_uint8.raw (--raw 256x256x128:u8).
+#include <cstdint>
+#include <cstddef>
+#include <string>
+
+#include "mvox/slice_source.h"
+#include "read/raw_file.h"
+#include "read/raw/raw_format.h"
+
+namespace mvox {
+
+// The file must hold exactly format.depth * format.slice_bytes() bytes (format.depth >= 1);
+// slice k starts at byte k * format.slice_bytes(). The file stays open; slices are read in
+// order, as many as fit in kChunkBytes at a time (one read per slice would cost more than a
+// slice of a few bytes takes to extract), never the whole volume. A pipe or FIFO is read as it
+// arrives, and its length is checked as it does: a short one fails at the slice where it ends,
+// a long one after the last slice.
+// info(): format's width, height, depth and type, spacing 1,1,1.
+// Memory: max(kChunkBytes, one slice), reused, allocated at the first slice (not by the
+// constructor, so that a run's memory plan can refuse it first); samples are swapped to native
+// order in place.
+// Throws mvox::Error naming the file when it cannot be opened, has the wrong size, or a read
+// fails.
+class RawVolumeSource : public SliceSource {
+ public:
+  static constexpr std::size_t kChunkBytes = 64 * 1024;
+
+  RawVolumeSource(const std::string& path, const RawFormat& format);
+
+  const VolumeInfo& info() const override { return info_; }
+  bool next_slice(SliceView* slice) override;
+  std::uint64_t working_bytes() const override { return slices_.buffer_bytes(); }
+
+ private:
+  RawFile file_;
+  RawFormat format_;
+  VolumeInfo info_;
+  ChunkedSliceReader slices_;  // the current slice is swapped to native order in its buffer
+  std::uint32_t next_index_ = 0;
+};
+
+}  // namespace mvox

@@ -1,0 +1,178 @@
+#include "read/stored_volume_source.h"
+
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+#include <utility>
+
+#include "read/buffer_allocation.h"
+#include "read/compression_bounds.h"
+#include "error.h"
+#include "message_line.h"
+
+namespace fs = std::filesystem;
+
+namespace mvox {
+namespace {
+
+// Signed bytes to 16-bit samples in place: `bytes` holds `count` int8 samples at its start and
+// has room for `count` int16 samples. Backwards, so that no sample is overwritten before it is
+// read (sample i moves from byte i to bytes 2i, 2i+1, never below i).
+void widen_i8_to_i16(unsigned char* bytes, std::size_t count) {
+  for (std::size_t i = count; i-- > 0;) {
+    const auto value = static_cast<std::int16_t>(static_cast<std::int8_t>(bytes[i]));
+    std::memcpy(bytes + 2 * i, &value, 2);
+  }
+}
+
+}  // namespace
+
+StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data)
+    : volume_(volume), data_(std::move(data)), file_(data_.path) {
+  if (volume_.compression == Compression::none) {
+    check_raw_size();
+  } else {
+    check_compressed_size();
+  }
+}
+
+std::uint64_t StoredVolumeSource::working_bytes() const {
+  const std::uint64_t slice =
+      std::uint64_t{volume_.info.width} * volume_.info.height * sample_bytes(volume_.info.type);
+  // zlib's input buffer, a buffer to measure the stream into, and zlib's state and window.
+  constexpr std::uint64_t kInflateBytes = 64 * 1024 + 64 * 1024 + 48 * 1024;
+  return slice + (volume_.compression == Compression::none ? 0 : kInflateBytes);
+}
+
+std::string StoredVolumeSource::volume_text() const {
+  std::string text = "a " + stored_volume_text(volume_) + " volume";
+  if (!data_.header.empty() && data_.header != data_.path) text += " (" + data_.header + ")";
+  return text;
+}
+
+void StoredVolumeSource::check_raw_size() {
+  const std::uint64_t needed = stored_volume_bytes(volume_);
+  const std::uint64_t size = file_.size_bytes();
+  // Sizes and offsets come from the header, so the additions are checked, not trusted.
+  if (data_.offset > size || size - data_.offset < needed) {
+    const bool overflows = data_.offset > ~std::uint64_t{0} - needed;
+    throw Error(data_.path,
+                "file is " + std::to_string(size) + " bytes, expected at least " +
+                    (overflows ? std::to_string(data_.offset) + " + " + std::to_string(needed)
+                               : std::to_string(data_.offset + needed)) +
+                    " for " + volume_text() + " starting at byte " + std::to_string(data_.offset));
+  }
+  if (data_.at_end) data_.offset = size - needed;
+}
+
+void StoredVolumeSource::check_compressed_size() {
+  const std::uint64_t size = file_.size_bytes();
+  if (data_.offset > size) {
+    throw Error(data_.path, "file is " + std::to_string(size) +
+                                " bytes, but its compressed data should start at byte " +
+                                std::to_string(data_.offset));
+  }
+  std::uint64_t end = size;
+  if (data_.compressed_bytes != 0) {
+    if (size - data_.offset < data_.compressed_bytes) {
+      throw Error(data_.path, "file is " + std::to_string(size) + " bytes, expected at least " +
+                                  std::to_string(data_.offset + data_.compressed_bytes) + " for " +
+                                  std::to_string(data_.compressed_bytes) +
+                                  " bytes of compressed data starting at byte " +
+                                  std::to_string(data_.offset));
+    }
+    end = data_.offset + data_.compressed_bytes;
+  }
+  const std::uint64_t needed = data_.skip_decompressed + stored_volume_bytes(volume_);
+  if (needed < data_.skip_decompressed) throw Error(data_.path, "byte skip is too large");
+  // A lying header, or a file cut short: refused before a byte is decompressed.
+  if (!could_decode_to(end - data_.offset, kDeflateMaxRatio, needed)) {
+    throw Error(data_.path, "its " + std::to_string(end - data_.offset) +
+                                " bytes of compressed data cannot hold the " +
+                                std::to_string(needed) + " bytes of " + volume_text() +
+                                " (deflate expands at most 1032 to 1)");
+  }
+
+  // A single gzip member that records the expected size is taken at its word; everything else
+  // (zlib, several members, a truncated file whose last bytes are not a trailer) is measured by
+  // decompressing once, so that a short stream is refused before extraction starts.
+  const std::optional<std::uint32_t> trailer = gzip_trailer_size(file_, data_.offset, end);
+  if (!trailer || *trailer != static_cast<std::uint32_t>(needed)) {
+    InflateReader measure(file_, data_.offset, end);
+    const std::uint64_t available = measure.discard(needed);
+    if (available < needed) {
+      throw Error(data_.path, "compressed data hold " + std::to_string(available) +
+                                  " bytes, expected " + std::to_string(needed) + " for " +
+                                  volume_text());
+    }
+  }
+  inflate_ = std::make_unique<InflateReader>(file_, data_.offset, end);
+  if (inflate_->discard(data_.skip_decompressed) != data_.skip_decompressed) {
+    throw Error(data_.path, "compressed data end within the " +
+                                std::to_string(data_.skip_decompressed) + " bytes to skip");
+  }
+}
+
+bool StoredVolumeSource::next_slice(SliceView* slice) {
+  if (next_index_ >= volume_.info.depth) return false;
+  const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
+  if (buffer_.empty())
+    resize_buffer(buffer_,
+                  std::uint64_t{volume_.info.width} * volume_.info.height *
+                      sample_bytes(volume_.info.type),
+                  data_.path, "a slice");
+  if (inflate_) {
+    inflate_->read(buffer_.data(), stored_bytes,
+                   data_.skip_decompressed + stored_volume_bytes(volume_), volume_text());
+  } else {
+    file_.read_at(data_.offset + std::uint64_t{next_index_} * stored_bytes, buffer_.data(),
+                  stored_bytes);
+  }
+  const std::size_t bytes_per_sample = stored_sample_bytes(volume_.stored);
+  const std::size_t samples = stored_bytes / bytes_per_sample;
+  swap_to_native(buffer_.data(), samples, bytes_per_sample, volume_.byte_order);
+  if (volume_.stored == StoredSample::i8) widen_i8_to_i16(buffer_.data(), samples);
+
+  slice->samples = buffer_.data();
+  slice->width = volume_.info.width;
+  slice->height = volume_.info.height;
+  slice->row_stride_bytes =
+      static_cast<std::size_t>(volume_.info.width) * sample_bytes(volume_.info.type);
+  slice->type = volume_.info.type;
+  ++next_index_;
+  return true;
+}
+
+std::string read_file_start(RawFile& file, std::size_t max_bytes) {
+  const std::size_t count =
+      static_cast<std::size_t>(std::min<std::uint64_t>(file.size_bytes(), max_bytes));
+  std::string text(count, '\0');
+  file.read_at(0, text.data(), count);
+  return text;
+}
+
+std::string resolve_data_file(const std::string& header_path, const std::string& data_file) {
+  fs::path path(data_file);
+  if (path.is_relative()) path = fs::path(header_path).parent_path() / path;
+  // The name comes from the header, whatever bytes it holds (a NUL among them): shown escaped.
+  const std::string shown = one_line(path.string());
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (!fs::exists(status)) {
+    throw Error(header_path, "data file " + shown + " does not exist");
+  }
+  if (fs::is_directory(status)) {
+    throw Error(header_path, "data file " + shown + " is a directory");
+  }
+  // Opening a FIFO waits for a writer, forever if none comes; and a header's offsets and sizes
+  // mean nothing in a stream. (A raw volume may still be a pipe: there the user says so.)
+  if (!fs::is_regular_file(status)) {
+    const char* kind = fs::is_fifo(status)     ? "a FIFO"
+                       : fs::is_socket(status) ? "a socket"
+                                               : "a device";
+    throw Error(header_path, "data file " + shown + " is " + kind + ", not a regular file");
+  }
+  return path.string();
+}
+
+}  // namespace mvox

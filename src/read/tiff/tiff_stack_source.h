@@ -1,0 +1,86 @@
+#pragma once
+// Reads TIFF files as one stack of slices through libtiff: every page (directory) of every
+// file, files in the given order and pages in file order, one page decoded at a time. A
+// multi-page TIFF is a whole volume in one file; single-page TIFF slices work the same way.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mvox/slice_source.h"
+#include "read/zlib_stream_check.h"
+
+namespace mvox {
+
+// Pages must be single-channel (min-is-black) 8-bit unsigned, 16-bit unsigned, 16-bit signed or
+// 32-bit float, all of the first page's size and type; striped or tiled, any compression libtiff
+// decodes. The constructor walks every page of every file once, reading only the directories,
+// and refuses before any slice is read: an unreadable file or directory, a colour, palette,
+// min-is-white or multi-sample page, another bit depth or sample format, a page of another size
+// or type than the first (named by file and 1-based page number), a page whose strips or
+// tiles lie beyond the end of its file (truncated), and a header that lies about sizes:
+// - a strip or tile, or a whole page, that declares more decoded bytes than its stored bytes
+//   can decode to (compression_bounds.h: uncompressed exactly, deflate, LZW, PackBits and
+//   JPEG by their ratios; codecs without a bound, such as LZMA or Zstandard, are left to the
+//   memory budget), named by page, strip or tile, and both sizes;
+// - tiles far larger than the image they tile: a tile may hold the image rounded up to
+//   multiples of 16 (TIFF's tile granularity) or 4096x4096 samples, whichever is more.
+// While streaming, a deflate strip or tile whose zlib checksum is wrong (which libtiff does not
+// check) is refused naming page and strip or tile.
+// info(): width, height, type of the first page; depth = all pages. Spacing 1,1,1, unless the
+// first file is an ImageJ stack whose ImageDescription gives "spacing=" (the z spacing); then x
+// and y come from its XResolution and YResolution (pixels per unit) and z from that.
+// Memory: nothing but the directories until the first slice is read; then one slice buffer,
+// reused, plus one tile for tiled pages, the largest stored strip or tile of compressed pages
+// and the deflate check's scratch: working_bytes(), an upper bound known from the directories.
+// Throws mvox::Error naming the file (and page) for every problem, including decoding errors
+// met while streaming and allocations that fail (naming the bytes asked for).
+class TiffStackSource : public SliceSource {
+ public:
+  explicit TiffStackSource(std::vector<std::string> files);
+  ~TiffStackSource() override;
+
+  const VolumeInfo& info() const override { return info_; }
+  bool next_slice(SliceView* slice) override;
+  // The slice, the largest tile, the largest stored strip or tile that libtiff or the deflate
+  // check reads whole (rounded up as libtiff allocates), and the deflate check's own buffers.
+  // libtiff's codec state (tens of KiB) is not counted.
+  std::uint64_t working_bytes() const override;
+
+  struct Tiff;  // an open libtiff handle and the errors it reported
+
+ private:
+  void check_file(std::size_t file_index, std::uint64_t* pages);
+  void read_page(std::vector<unsigned char>& buffer, std::uint16_t compression);
+  // Decodes strip or tile `index` of the current page, rows of `row_samples` samples, into
+  // out[0, out_bytes); false when libtiff cannot. Deflate data are inflated whole here, so that
+  // their checksum is checked (zlib_stream_check.h), and throw when corrupt.
+  bool read_chunk(std::uint32_t index, bool deflate, unsigned char* out, std::size_t out_bytes,
+                  std::size_t row_samples);
+
+  std::vector<std::string> files_;
+  std::vector<std::uint64_t> pages_per_file_;  // counted by the constructor
+  VolumeInfo info_;
+  std::vector<unsigned char> buffer_;  // the current slice, native order; from the first slice
+  std::vector<unsigned char> tile_;    // one decoded tile of a tiled page
+  std::vector<unsigned char> raw_;     // one stored deflate strip or tile
+  std::unique_ptr<ZlibStreamCheck> deflate_check_;  // from the first deflate page
+  // Upper bounds over every page, from the directories (working_bytes()).
+  std::uint64_t largest_tile_ = 0;           // decoded bytes of the largest tile
+  std::uint64_t largest_deflate_chunk_ = 0;  // stored bytes of the largest deflate strip or tile
+  std::uint64_t largest_libtiff_chunk_ = 0;  // ... of other compressed pages, which libtiff reads
+  std::unique_ptr<Tiff> open_;               // the file being streamed
+  std::size_t file_index_ = 0;               // of open_
+  std::uint64_t page_in_file_ = 0;           // 0-based page of open_ that next_slice reads next
+  std::uint32_t next_index_ = 0;             // slice of the stack that next_slice returns next
+};
+
+// True when `path` ends in .tif or .tiff, case-insensitive.
+bool has_tiff_extension(const std::string& path);
+
+// The number of pages of the TIFF file `path`. Throws mvox::Error naming the file when it
+// cannot be opened or a directory cannot be read.
+std::uint64_t tiff_page_count(const std::string& path);
+
+}  // namespace mvox

@@ -1,0 +1,71 @@
+#include "write/mesh/mesh_format.h"
+
+#include <cctype>
+
+#include "write/buffered_writer.h"
+#include "write/mesh/obj_writer.h"
+#include "write/mesh/ply_writer.h"
+#include "write/mesh/stl_writer.h"
+
+namespace mvox {
+
+const char* mesh_format_name(MeshFormat format) {
+  switch (format) {
+    case MeshFormat::ply: return "ply";
+    case MeshFormat::ply_ascii: return "ply-ascii";
+    case MeshFormat::stl: return "stl";
+    case MeshFormat::obj: return "obj";
+  }
+  return "ply";
+}
+
+std::optional<MeshFormat> mesh_format_named(const std::string& name) {
+  for (MeshFormat format :
+       {MeshFormat::ply, MeshFormat::ply_ascii, MeshFormat::stl, MeshFormat::obj})
+    if (name == mesh_format_name(format)) return format;
+  return std::nullopt;
+}
+
+std::optional<MeshFormat> mesh_format_of_path(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  // A dot in a directory name, or a hidden file's leading dot, is not an extension.
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash) || dot == 0 ||
+      dot == slash + 1)
+    return std::nullopt;
+  std::string extension = path.substr(dot + 1);
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == "ply") return MeshFormat::ply;
+  if (extension == "stl") return MeshFormat::stl;
+  if (extension == "obj") return MeshFormat::obj;
+  return std::nullopt;
+}
+
+std::uint64_t mesh_writer_working_bytes(MeshFormat format) {
+  const std::uint64_t files = format == MeshFormat::obj ? 1 : format == MeshFormat::stl ? 2 : 3;
+  // The batches of MeshWriter: placed vertices and normals of a vertex batch (36 bytes each), a
+  // waiting polygon batch (32 each), and a run of faces with their positions: under 512 KiB for
+  // the engine's 4096-entry batches.
+  constexpr std::uint64_t kBatchBytes = 512 * 1024;
+  return files * BufferedWriter::kBufferBytes + kBatchBytes;
+}
+
+bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options) {
+  return format == MeshFormat::stl || options.triangulate;
+}
+
+std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat format,
+                                             const MeshWriterOptions& options) {
+  switch (format) {
+    case MeshFormat::stl: return std::make_unique<StlWriter>(path, options);
+    case MeshFormat::obj: return std::make_unique<ObjWriter>(path, options);
+    case MeshFormat::ply:
+    case MeshFormat::ply_ascii: break;
+  }
+  PlyWriterOptions ply;
+  static_cast<MeshWriterOptions&>(ply) = options;
+  ply.format = format == MeshFormat::ply_ascii ? PlyFormat::ascii : PlyFormat::binary_little_endian;
+  return std::make_unique<PlyWriter>(path, ply);
+}
+
+}  // namespace mvox

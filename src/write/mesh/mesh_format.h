@@ -1,0 +1,41 @@
+#pragma once
+// The mesh formats mvox writes, chosen by name (--format) or by the output's extension, and the
+// writer for each.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "write/mesh/mesh_writer.h"
+
+namespace mvox {
+
+enum class MeshFormat : std::uint8_t { ply, ply_ascii, stl, obj };
+
+// The choices for --format, for help and messages.
+constexpr const char kMeshFormatChoices[] = "ply|ply-ascii|stl|obj";
+
+// "ply", "ply-ascii", "stl" or "obj": the --format name.
+const char* mesh_format_name(MeshFormat format);
+
+// The format a --format name stands for, or nothing.
+std::optional<MeshFormat> mesh_format_named(const std::string& name);
+
+// The format a file name's extension implies, ignoring case: .ply (binary PLY), .stl, .obj; or
+// nothing (another extension, none, or "-" for standard output).
+std::optional<MeshFormat> mesh_format_of_path(const std::string& path);
+
+// The most memory a writer of `format` takes, whatever the mesh size: its write buffers
+// (BufferedWriter, one per file and spool file: PLY keeps faces, and on a pipe vertices too, in
+// spool files; STL keeps triangles in one on a pipe), and the shared MeshWriter's batches.
+std::uint64_t mesh_writer_working_bytes(MeshFormat format);
+
+// True when a writer of `format` with `options` needs every polygon's geometry from the engine
+// (EngineOptions::polygon_geometry): STL and --triangulate.
+bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options);
+
+// A writer of `format` to `path` ("-" for standard output). Throws mvox::Error as the writers do.
+std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat format,
+                                             const MeshWriterOptions& options);
+
+}  // namespace mvox

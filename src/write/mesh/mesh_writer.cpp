@@ -1,0 +1,241 @@
+#include "write/mesh/mesh_writer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "write/mesh/polygon_triangulation.h"
+
+namespace mvox {
+namespace {
+
+// Faces handed to the derived writer at a time: 16 KB of Polygon, 42 KB of FacePositions.
+constexpr std::size_t kFacesPerRun = 512;
+
+MeshWriterOptions checked(MeshWriterOptions options) {
+  // The command line checks the placement earlier, naming the input or option it came from
+  // (mesh_writer_options in cli_options.h); this guards every other caller.
+  options.transform.check("mesh placement");
+  for (const std::string& comment : options.comments)
+    if (comment.find_first_of("\r\n") != std::string::npos)
+      throw Error("mesh comment", "must be one line: \"" + comment + "\"");
+  return options;
+}
+
+}  // namespace
+
+MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, Positions positions)
+    : options_(checked(options)),
+      triangulate_(options.triangulate || faces == Faces::as_triangles),
+      positions_needed_(positions == Positions::needed),
+      needs_geometry_(triangulate_ || positions_needed_),
+      mirrors_(options_.transform.mirrors()),
+      axis_aligned_(options_.transform.is_axis_aligned()),
+      normal_matrix_(options_.transform.normal_matrix()),
+      faces_(kFacesPerRun),
+      face_positions_(positions_needed_ ? kFacesPerRun : 0) {}
+
+template <class Body>
+Status MeshWriter::guarded(const char* batch, Body&& body) {
+  // No exception may leave: the engine that calls us is compiled with -fno-exceptions.
+  try {
+    if (error_) return Status::sink_refused;
+    if (finished_)
+      throw Error(subject(), std::string("internal error: ") + batch + " after finish()");
+    body();
+    return Status::ok;
+  } catch (const Error& error) {
+    if (!error_) error_ = error;
+  } catch (const std::exception& error) {
+    if (!error_) error_ = Error(subject(), error.what());
+  } catch (...) {
+    if (!error_) error_ = Error(subject(), "unknown error");
+  }
+  return Status::sink_refused;
+}
+
+Status MeshWriter::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
+  return guarded("vertices", [&] {
+    if (vertex_count > kMaxVertexCount - vertex_count_) {
+      throw Error(subject(), "more than " + std::to_string(kMaxVertexCount) +
+                                 " vertices, which 32-bit signed indices cannot address");
+    }
+    place_vertices(vertices, vertex_count);
+    write_vertices(vertex_batch_.data(), vertex_count);
+    vertex_count_ += vertex_count;
+  });
+}
+
+void MeshWriter::place_vertices(const Vertex* vertices, std::size_t vertex_count) {
+  vertex_batch_.resize(vertex_count);
+  const bool with_normals = options_.normals != nullptr;
+  if (with_normals) {
+    normal_batch_.resize(vertex_count);
+    options_.normals->compute(vertices, vertex_count, normal_batch_.data());
+  }
+  for (std::size_t i = 0; i < vertex_count; ++i) {
+    const Vertex& vertex = vertices[i];
+    const Vector3d world =
+        axis_aligned_ ? options_.transform.axis_aligned_position(vertex.x, vertex.y, vertex.z)
+                      : options_.transform.position(vertex.x, vertex.y, vertex.z);
+    WorldVertex& out = vertex_batch_[i];
+    for (int axis = 0; axis < 3; ++axis) {
+      // Converting a double beyond float's range is undefined behaviour, so check first.
+      if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max())) {
+        throw Error(subject(), "vertex " + std::to_string(vertex_count_ + i) +
+                                   " lies outside the float range after spacing and origin");
+      }
+      out.position[axis] = static_cast<float>(world[axis]);
+    }
+    if (with_normals) {
+      // Identity axes keep the normal exactly as computed: renormalising would change it by an
+      // ulp for nothing.
+      const glm::vec3 normal =
+          axis_aligned_ ? normal_batch_[i] : world_normal(normal_matrix_, normal_batch_[i]);
+      for (int axis = 0; axis < 3; ++axis) out.normal[axis] = normal[axis];
+    }
+  }
+}
+
+void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count) const {
+  // Branch-free per polygon: the largest index and whether the size is in range, folded over the
+  // batch; the message is built only for a batch that fails.
+  std::uint32_t highest = 0;
+  bool sizes_ok = true;
+  for (std::size_t i = 0; i < polygon_count; ++i) {
+    const Polygon& polygon = polygons[i];
+    const unsigned count = polygon.vertex_count;
+    sizes_ok &= count - 3u <= unsigned{kMaxPolygonVertices} - 3u;
+    for (int k = 0; k < kMaxPolygonVertices; ++k)
+      if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
+  }
+  if (sizes_ok && (polygon_count == 0 || highest < vertex_count_)) return;
+  for (std::size_t i = 0; i < polygon_count; ++i) {
+    const Polygon& polygon = polygons[i];
+    const int count = polygon.vertex_count;
+    const std::string face = "internal error: face " + std::to_string(polygon_count_ + i);
+    if (count < 3 || count > kMaxPolygonVertices)
+      throw Error(subject(), face + " has " + std::to_string(count) + " vertices");
+    for (int k = 0; k < count; ++k)
+      if (polygon.vertices[k] >= vertex_count_)
+        throw Error(subject(), face + " refers to vertex " + std::to_string(polygon.vertices[k]) +
+                                   " of " + std::to_string(vertex_count_) + " written");
+  }
+}
+
+Status MeshWriter::consume_polygons(const Polygon* polygons, std::size_t polygon_count) {
+  return guarded("polygons", [&] {
+    check_polygons(polygons, polygon_count);
+    polygon_count_ += polygon_count;
+    if (needs_geometry_) {
+      if (pending_batch_)
+        throw Error(subject(),
+                    "internal error: a polygon batch arrived before the previous one's geometry");
+      // The batch is valid only during this call: keep it until its geometry comes.
+      pending_.assign(polygons, polygons + polygon_count);
+      pending_batch_ = true;
+      return;
+    }
+    if (!triangulate_ && !mirrors_) {
+      // Nothing to change: the batch goes out as the engine sent it.
+      write_faces(polygons, nullptr, polygon_count);
+      face_count_ += polygon_count;
+      return;
+    }
+    face_fill_ = 0;
+    for (std::size_t i = 0; i < polygon_count; ++i) add_faces(polygons[i], nullptr);
+    flush_faces();
+  });
+}
+
+Status MeshWriter::consume_polygon_geometry(const PolygonGeometry* polygons,
+                                            std::size_t polygon_count) {
+  // Geometry for a picture alone: this writer has what it needs from the indices.
+  if (!needs_geometry_) return error_ ? Status::sink_refused : Status::ok;
+  return guarded("polygon geometry", [&] {
+    if (!pending_batch_ || pending_.size() != polygon_count)
+      throw Error(subject(), "internal error: polygon geometry does not match the polygon batch");
+    face_fill_ = 0;
+    for (std::size_t i = 0; i < polygon_count; ++i) {
+      if (polygons[i].vertex_count != pending_[i].vertex_count)
+        throw Error(subject(), "internal error: polygon geometry does not match the polygon batch");
+      add_faces(pending_[i], &polygons[i]);
+    }
+    pending_batch_ = false;
+    flush_faces();
+  });
+}
+
+void MeshWriter::add_faces(const Polygon& polygon, const PolygonGeometry* geometry) {
+  const std::uint8_t in_order[kMaxPolygonVertices] = {0, 1, 2, 3, 4, 5, 6};
+  if (!triangulate_ || polygon.vertex_count == 3) {
+    add_face(polygon, geometry, in_order, polygon.vertex_count);
+    return;
+  }
+  PolygonTriangles triangles;
+  if (!triangulate_polygon(*geometry, &triangles))
+    throw Error(subject(), "internal error: a " + std::to_string(polygon.vertex_count) +
+                               "-gon cannot be split without a diagonal on a cube face");
+  for (int t = 0; t < triangles.count; ++t) add_face(polygon, geometry, triangles.corners[t], 3);
+}
+
+void MeshWriter::add_face(const Polygon& polygon, const PolygonGeometry* geometry,
+                          const std::uint8_t* corners, int corner_count) {
+  // Faces go out in small runs, so the buffer stays small whatever the engine's batch size.
+  if (face_fill_ == faces_.size()) flush_faces();
+  // Reused without clearing: only the first vertex_count entries of a face are ever read.
+  Polygon& face = faces_[face_fill_];
+  float(*positions)[3] = positions_needed_ ? face_positions_[face_fill_].xyz : nullptr;
+  ++face_fill_;
+  face.vertex_count = static_cast<std::uint8_t>(corner_count);
+  for (int k = 0; k < corner_count; ++k) {
+    // A mirroring transform turns counter-clockwise into clockwise; walking the corners
+    // backwards from the first turns it back, so the outward side stays outward.
+    const int corner = corners[mirrors_ ? (corner_count - k) % corner_count : k];
+    face.vertices[k] = polygon.vertices[corner];
+    if (positions) {
+      const Vertex& vertex = geometry->vertices[corner];
+      const Vector3d world = options_.transform.position(vertex.x, vertex.y, vertex.z);
+      for (int axis = 0; axis < 3; ++axis) {
+        // Checked when the vertex arrived by index; checked again here because the cast of a
+        // double beyond float's range would be undefined behaviour.
+        if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max()))
+          throw Error(subject(), "vertex " + std::to_string(face.vertices[k]) +
+                                     " lies outside the float range after spacing and origin");
+        positions[k][axis] = static_cast<float>(world[axis]);
+      }
+    }
+  }
+}
+
+void MeshWriter::flush_faces() {
+  write_faces(faces_.data(), positions_needed_ ? face_positions_.data() : nullptr, face_fill_);
+  face_count_ += face_fill_;
+  face_fill_ = 0;
+}
+
+void MeshWriter::finish() {
+  complete();
+  publish();
+}
+
+void MeshWriter::complete() {
+  if (finished_) throw Error(subject(), "internal error: finish() called twice");
+  if (error_) throw *error_;
+  try {
+    if (pending_batch_)
+      throw Error(subject(),
+                  "internal error: polygons arrived without their geometry (the engine needs "
+                  "EngineOptions::polygon_geometry)");
+    complete_file();
+  } catch (const Error& error) {
+    error_ = error;
+    throw;
+  }
+  finished_ = true;
+}
+
+void MeshWriter::publish() { output_file().publish(); }
+
+}  // namespace mvox

@@ -1,0 +1,143 @@
+#pragma once
+// What every mesh writer (PLY, STL, OBJ) shares: the engine's batches checked, placed in the
+// world, split into triangles when asked, wound outward, and errors remembered for finish().
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "write/output_file.h"
+#include "mvox/polygon_sink.h"
+#include "mvox/vertex_normals.h"
+#include "write/mesh/world_transform.h"
+
+namespace mvox {
+
+struct MeshWriterOptions {
+  // Where the mesh lands (world_transform.h). Checked by the writer's constructor.
+  WorldTransform transform;
+  // One-line descriptions, e.g. "mvox marching voxels, threshold 600, fast engine, merge-rules":
+  // PLY comment lines, OBJ "#" lines, and the first one starts the STL header.
+  std::vector<std::string> comments;
+  // When set (borrowed), every vertex also gets its outward unit normal, turned into the world
+  // with the transform: PLY nx, ny, nz, OBJ vn. STL has face normals only and refuses it. The
+  // window behind it must hold the slices around each vertex batch as it arrives.
+  const VertexNormals* normals = nullptr;
+  // Split every polygon into triangles (polygon_triangulation.h); STL always does.
+  bool triangulate = false;
+};
+
+// A vertex as written: its world position, and its world normal when the options have normals.
+struct WorldVertex {
+  float position[3] = {};
+  float normal[3] = {};
+};
+
+// The world positions of one face's vertices, in the face's order, for writers that asked for
+// them (STL).
+struct FacePositions {
+  float xyz[kMaxPolygonVertices][3];
+};
+
+// A PolygonSink that writes a mesh file as the engine streams, in fixed memory whatever the
+// mesh size: the derived writer's buffers, a copy of one polygon batch when it waits for its
+// geometry (32 bytes a polygon), the placed vertices of one vertex batch (24 bytes a vertex) and
+// 512 faces at a time. Faces go to the derived writer as Polygon: indices of vertices already
+// written, wound counter-clockwise seen from outside in the world (reversed from the engine's
+// order when the transform mirrors); without mirror, triangles or positions they are the
+// engine's batch itself. The file appears, complete, only when finish() succeeds (OutputFile's
+// temporary and rename); on any failure the target is left as it was.
+//
+// The engine is built without exceptions, so the consume_* calls never throw: on an error they
+// remember it and return Status::sink_refused (also for every later call), and finish() throws
+// it. Polygons must have 3 to kMaxPolygonVertices vertices, each already consumed; anything
+// else is refused as an internal error rather than written into a broken file.
+//
+// A writer that triangulates or needs face positions (needs_polygon_geometry()) writes each
+// polygon batch when its geometry arrives, so the engine must run with
+// EngineOptions::polygon_geometry; polygons left without geometry make finish() throw.
+class MeshWriter : public PolygonSink {
+ public:
+  virtual ~MeshWriter() = default;
+  MeshWriter(const MeshWriter&) = delete;
+  MeshWriter& operator=(const MeshWriter&) = delete;
+
+  Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) final;
+  Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) final;
+  Status consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t polygon_count) final;
+
+  // Completes and commits the file. Throws the remembered error of a refused batch, or any
+  // error of its own; throws if called twice.
+  void finish();
+  // finish() in two steps, to make the mesh appear together with other files (OutputFile's
+  // seal() and publish()): complete() writes and seals everything, publish() only renames.
+  void complete();
+  void publish();
+
+  bool needs_polygon_geometry() const { return needs_geometry_; }
+  // Vertices received from the engine (STL repeats them in every triangle instead).
+  std::uint64_t vertices_written() const { return vertex_count_; }
+  // Faces written: triangles when triangulating.
+  std::uint64_t faces_written() const { return face_count_; }
+  // The error that made the writer refuse, or nullptr.
+  const Error* error() const { return error_ ? &*error_ : nullptr; }
+  // The output's name in messages: the path, or "standard output".
+  virtual const std::string& subject() const = 0;
+  // The file being written, for publishing it together with other outputs (publish_together).
+  virtual OutputFile& output_file() = 0;
+
+ protected:
+  enum class Faces : std::uint8_t { as_polygons, as_triangles };
+  enum class Positions : std::uint8_t { not_needed, needed };
+
+  // Checks the options (throws mvox::Error) before the derived writer creates any file.
+  MeshWriter(const MeshWriterOptions& options, Faces faces, Positions positions);
+
+  const MeshWriterOptions& options() const { return options_; }
+
+  // The derived writer's format. May throw mvox::Error; the base turns that into a refusal.
+  virtual void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) = 0;
+  // `positions` has one entry per face when the writer asked for them, else it is null.
+  virtual void write_faces(const Polygon* faces, const FacePositions* positions,
+                           std::size_t face_count) = 0;
+  // Writes what only the end can tell (counts), and seals the file (OutputFile::seal).
+  virtual void complete_file() = 0;
+
+ private:
+  template <class Body>
+  Status guarded(const char* batch, Body&& body);
+  void place_vertices(const Vertex* vertices, std::size_t vertex_count);
+  // Throws unless every polygon has 3 to kMaxPolygonVertices vertices, each already consumed.
+  void check_polygons(const Polygon* polygons, std::size_t polygon_count) const;
+  // Appends `polygon`'s faces (itself, or its triangles when `geometry` is given and the writer
+  // triangulates) to faces_.
+  void add_faces(const Polygon& polygon, const PolygonGeometry* geometry);
+  void add_face(const Polygon& polygon, const PolygonGeometry* geometry,
+                const std::uint8_t* corners, int corner_count);
+  void flush_faces();
+
+  MeshWriterOptions options_;
+  bool triangulate_;
+  bool positions_needed_;
+  bool needs_geometry_;
+  bool mirrors_;
+  bool axis_aligned_;
+  Matrix3d normal_matrix_{};
+  std::vector<glm::vec3> normal_batch_;
+  std::vector<WorldVertex> vertex_batch_;
+  // kFacesPerRun faces (and their positions, if needed), the first face_fill_ in use.
+  std::vector<Polygon> faces_;
+  std::vector<FacePositions> face_positions_;
+  std::size_t face_fill_ = 0;
+  std::vector<Polygon> pending_;  // a polygon batch waiting for its geometry
+  bool pending_batch_ = false;
+  std::uint64_t vertex_count_ = 0;
+  std::uint64_t polygon_count_ = 0;
+  std::uint64_t face_count_ = 0;
+  std::optional<Error> error_;
+  bool finished_ = false;
+};
+
+}  // namespace mvox

@@ -1,0 +1,70 @@
+#include "write/mesh/obj_writer.h"
+
+#include <charconv>
+#include <cstring>
+
+namespace mvox {
+namespace {
+
+char* put_floats(char* out, char* end, const char* keyword, const float* values) {
+  while (*keyword) *out++ = *keyword++;
+  for (int i = 0; i < 3; ++i) {
+    *out++ = ' ';
+    out = std::to_chars(out, end, values[i]).ptr;
+  }
+  *out++ = '\n';
+  return out;
+}
+
+}  // namespace
+
+ObjWriter::ObjWriter(const std::string& path, const MeshWriterOptions& options)
+    : MeshWriter(options, Faces::as_polygons, Positions::not_needed), out_(path) {
+  std::string comments;
+  for (const std::string& comment : this->options().comments) comments += "# " + comment + "\n";
+  out_.write(comments.data(), comments.size());
+}
+
+void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_count) {
+  const bool with_normals = options().normals != nullptr;
+  for (std::size_t i = 0; i < vertex_count; ++i) {
+    // "vn" and three floats of at most 15 characters each, twice.
+    char lines[2 * (2 + 3 * 16 + 1)];
+    char* end = put_floats(lines, lines + sizeof lines, "v", vertices[i].position);
+    if (with_normals) end = put_floats(end, lines + sizeof lines, "vn", vertices[i].normal);
+    out_.write(lines, static_cast<std::size_t>(end - lines));
+  }
+}
+
+void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
+  const bool with_normals = options().normals != nullptr;
+  for (std::size_t i = 0; i < face_count; ++i) {
+    const Polygon& face = faces[i];
+    // "f", then per vertex a space and "I" or "I//I", I of at most 10 digits, and the newline.
+    char line[1 + kMaxPolygonVertices * 23 + 1];
+    std::size_t used = 0;
+    line[used++] = 'f';
+    for (int k = 0; k < face.vertex_count; ++k) {
+      // OBJ counts from 1; indices stay below 2^31, so adding 1 cannot overflow.
+      char digits[10];
+      const std::size_t length = static_cast<std::size_t>(
+          std::to_chars(digits, digits + sizeof digits, face.vertices[k] + 1).ptr - digits);
+      line[used++] = ' ';
+      std::memcpy(line + used, digits, length);
+      used += length;
+      if (with_normals) {
+        line[used++] = '/';
+        line[used++] = '/';
+        std::memcpy(line + used, digits, length);
+        used += length;
+      }
+    }
+    line[used++] = '\n';
+    out_.write(line, used);
+  }
+}
+
+void ObjWriter::complete_file() { out_.seal(); }
+
+
+}  // namespace mvox

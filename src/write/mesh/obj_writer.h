@@ -1,0 +1,37 @@
+#pragma once
+// Streams the engine's mesh into a Wavefront OBJ file, in the engine's own order: no counts in
+// a header, so nothing waits in a spool and memory does not grow with the mesh.
+#include <cstddef>
+#include <string>
+
+#include "write/mesh/mesh_writer.h"
+#include "write/output_file.h"
+
+namespace mvox {
+
+// A MeshWriter for OBJ (text):
+//   # COMMENT                one line per comment, first
+//   v X Y Z                  one per vertex, as each vertex batch arrives
+//   vn NX NY NZ              after its "v" line, with options.normals
+//   f I J K ...              one per face, as each polygon batch arrives; 1-based indices, or
+//   f I//I J//J K//K ...     with normals (vertex I has normal I)
+// The engine sends a polygon's vertices before the polygon, so every face follows the lines of
+// the vertices it uses. Numbers are the shortest text that reads back to the same float.
+class ObjWriter final : public MeshWriter {
+ public:
+  // Creates the temporary file and writes the comments. Throws mvox::Error.
+  explicit ObjWriter(const std::string& path, const MeshWriterOptions& options = {});
+
+  const std::string& subject() const override { return out_.subject(); }
+  OutputFile& output_file() override { return out_; }
+
+ private:
+  void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
+  void write_faces(const Polygon* faces, const FacePositions* positions,
+                   std::size_t face_count) override;
+  void complete_file() override;
+
+  OutputFile out_;
+};
+
+}  // namespace mvox

@@ -1,0 +1,139 @@
+#include "write/mesh/ply_writer.h"
+
+#include <charconv>
+#include <cstring>
+#include <limits>
+
+#include "write/mesh/little_endian.h"
+
+namespace mvox {
+namespace {
+
+// Counts are reserved at their widest: 20 digits, enough for any 64-bit value.
+constexpr std::uint64_t kWidestCount = std::numeric_limits<std::uint64_t>::max();
+constexpr char kEndHeader[] = "end_header\n";
+constexpr std::size_t kEndHeaderBytes = sizeof kEndHeader - 1;
+// The padding line is "comment" followed by at least one space, so it is never empty.
+constexpr std::size_t kShortestPaddingBytes = sizeof "comment \n" - 1;
+
+// The header without its padding line and end_header.
+std::string header_lines(PlyFormat format, const MeshWriterOptions& options,
+                         std::uint64_t vertex_count, std::uint64_t face_count) {
+  std::string text = "ply\n";
+  text += format == PlyFormat::ascii ? "format ascii 1.0\n" : "format binary_little_endian 1.0\n";
+  for (const std::string& comment : options.comments) text += "comment " + comment + "\n";
+  text += "element vertex " + std::to_string(vertex_count) + "\n";
+  text += "property float x\nproperty float y\nproperty float z\n";
+  if (options.normals) text += "property float nx\nproperty float ny\nproperty float nz\n";
+  text += "element face " + std::to_string(face_count) + "\n";
+  text += "property list uchar int vertex_indices\n";
+  return text;
+}
+
+}  // namespace
+
+std::size_t PlyWriter::reserved_header_bytes(const PlyWriterOptions& options) {
+  return header_lines(options.format, options, kWidestCount, kWidestCount).size() +
+         kShortestPaddingBytes + kEndHeaderBytes;
+}
+
+PlyWriter::PlyWriter(const std::string& path, PlyWriterOptions options)
+    : MeshWriter(options, Faces::as_polygons, Positions::not_needed),
+      format_(options.format),
+      out_(path),
+      faces_(out_.scratch_directory(), out_.subject()) {
+  if (out_.can_overwrite()) {
+    // Placeholder until finish(): the same size as the real header, so nothing moves.
+    header_bytes_ = reserved_header_bytes(options);
+    const std::string placeholder(header_bytes_, ' ');
+    out_.write(placeholder.data(), placeholder.size());
+  } else {
+    vertex_spool_.emplace(out_.scratch_directory(), out_.subject());
+  }
+}
+
+void PlyWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_count) {
+  if (vertex_spool_) {
+    write_vertices_to(*vertex_spool_, vertices, vertex_count);
+  } else {
+    write_vertices_to(out_, vertices, vertex_count);
+  }
+}
+
+template <class Sink>
+void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
+                                  std::size_t vertex_count) {
+  const int fields = options().normals ? 6 : 3;
+  for (std::size_t i = 0; i < vertex_count; ++i) {
+    const WorldVertex& vertex = vertices[i];
+    float written[6];
+    for (int axis = 0; axis < 3; ++axis) {
+      written[axis] = vertex.position[axis];
+      written[3 + axis] = vertex.normal[axis];
+    }
+    if (format_ == PlyFormat::ascii) {
+      // Shortest representation that reads back to the same float.
+      char line[128];
+      char* end = line;
+      for (int field = 0; field < fields; ++field) {
+        end = std::to_chars(end, line + sizeof line, written[field]).ptr;
+        *end++ = field + 1 < fields ? ' ' : '\n';
+      }
+      sink.write(line, static_cast<std::size_t>(end - line));
+    } else {
+      unsigned char record[24];
+      unsigned char* end = record;
+      for (int field = 0; field < fields; ++field) end = store_le_float(end, written[field]);
+      sink.write(record, static_cast<std::size_t>(end - record));
+    }
+  }
+}
+
+void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
+  for (std::size_t i = 0; i < face_count; ++i) {
+    const Polygon& face = faces[i];
+    const int count = face.vertex_count;
+    // MeshWriter checked every face; checked again so the record below provably fits.
+    if (count > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
+    if (format_ == PlyFormat::ascii) {
+      // "7" and seven indices of at most 10 digits, each after a space, and the newline.
+      char line[1 + kMaxPolygonVertices * 11 + 1];
+      char* end = line;
+      *end++ = static_cast<char>('0' + count);
+      for (int k = 0; k < count; ++k) {
+        *end++ = ' ';
+        end = std::to_chars(end, line + sizeof line, face.vertices[k]).ptr;
+      }
+      *end++ = '\n';
+      faces_.write(line, static_cast<std::size_t>(end - line));
+    } else {
+      unsigned char record[1 + 4 * kMaxPolygonVertices];
+      unsigned char* end = record;
+      *end++ = static_cast<unsigned char>(count);
+      for (int k = 0; k < count; ++k) end = store_le32(end, face.vertices[k]);
+      faces_.write(record, static_cast<std::size_t>(end - record));
+    }
+  }
+}
+
+void PlyWriter::complete_file() {
+  std::string header = header_lines(format_, options(), vertices_written(), faces_written());
+  if (vertex_spool_) {
+    header += kEndHeader;
+    out_.write(header.data(), header.size());
+    vertex_spool_->copy_to(out_);
+    faces_.copy_to(out_);
+  } else {
+    faces_.copy_to(out_);
+    // Pad with spaces in a comment line so the header fills its reserved area exactly.
+    header += "comment";
+    header.append(header_bytes_ - header.size() - kEndHeaderBytes - 1, ' ');
+    header += '\n';
+    header += kEndHeader;
+    out_.overwrite(0, header.data(), header.size());
+  }
+  out_.seal();
+}
+
+
+}  // namespace mvox

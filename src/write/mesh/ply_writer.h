@@ -1,0 +1,59 @@
+#pragma once
+// Streams the engine's mesh into a PLY file (DESIGN.md section 4), never holding it in memory.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "write/mesh/mesh_writer.h"
+#include "write/output_file.h"
+#include "write/scratch_file.h"
+
+namespace mvox {
+
+enum class PlyFormat : std::uint8_t { binary_little_endian, ascii };
+
+// The shared options (placement, comment lines, normals, --triangulate) and PLY's encoding.
+struct PlyWriterOptions : MeshWriterOptions {
+  PlyFormat format = PlyFormat::binary_little_endian;
+};
+
+// A MeshWriter for PLY:
+//   element vertex N: property float x, y, z (and nx, ny, nz with options.normals)
+//   element face M:   property list uchar int vertex_indices
+// N and M are known only at the end, so vertices go into the output (an OutputFile temporary)
+// after a header area reserved for the largest possible counts, and faces into a ScratchFile in
+// the same directory. finish() appends the faces, writes the real header into the reserved area
+// (padded to its exact size with a "comment" line of spaces just before end_header) and commits.
+// For an output that cannot be overwritten (standard output, a pipe) the vertices wait in a
+// ScratchFile too, and the file is written in order by finish(). Memory: two write buffers and a
+// copy buffer (about 3 MiB), whatever the mesh size.
+class PlyWriter final : public MeshWriter {
+ public:
+  // Creates the temporary files. Throws mvox::Error (e.g. "out/mesh.ply: cannot create file:
+  // No such file or directory", or an invalid option).
+  explicit PlyWriter(const std::string& path, PlyWriterOptions options = {});
+
+  const std::string& subject() const override { return out_.subject(); }
+  OutputFile& output_file() override { return out_; }
+
+  // Bytes of the header area for these options (binary and ASCII alike), which is also the
+  // offset of the first vertex in a file written to a regular target.
+  static std::size_t reserved_header_bytes(const PlyWriterOptions& options);
+
+ private:
+  void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
+  void write_faces(const Polygon* faces, const FacePositions* positions,
+                   std::size_t face_count) override;
+  void complete_file() override;
+  template <class Sink>
+  void write_vertices_to(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count);
+
+  PlyFormat format_;
+  OutputFile out_;
+  std::optional<ScratchFile> vertex_spool_;  // only when out_ cannot be overwritten
+  ScratchFile faces_;
+  std::size_t header_bytes_ = 0;
+};
+
+}  // namespace mvox

@@ -1,0 +1,64 @@
+#include "write/scratch_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <vector>
+
+#include "error.h"
+#include "write/output_file.h"
+#include "pipeline/termination.h"
+
+namespace mvox {
+
+ScratchFile::ScratchFile(const std::string& directory, const std::string& subject)
+    : subject_(subject) {
+  std::string temp = directory;
+  if (temp.empty()) temp = ".";
+  if (temp.back() != '/') temp += '/';
+  temp += ".mvox-scratch.XXXXXX";
+  std::vector<char> name(temp.begin(), temp.end());
+  name.push_back('\0');
+  // The open descriptor keeps the data; the name is not needed, and without it nothing is left
+  // behind. Created and unlinked in one step that an interrupt cannot split (termination.h).
+  const int fd = create_nameless_temporary(name.data());
+  if (fd < 0) {
+    throw Error(subject_,
+                "cannot create temporary file in " + directory + ": " + errno_text(errno));
+  }
+  writer_.set_fd(fd);
+}
+
+ScratchFile::~ScratchFile() {
+  if (writer_.fd() >= 0) ::close(writer_.fd());
+}
+
+void ScratchFile::fail_write(int error) {
+  throw Error(subject_, "write failed on temporary file: " + errno_text(error));
+}
+
+void ScratchFile::copy_to(OutputFile& out) {
+  if (const int error = writer_.flush()) fail_write(error);
+  const int fd = writer_.fd();
+  if (::lseek(fd, 0, SEEK_SET) != 0) {
+    throw Error(subject_, "cannot read temporary file: " + errno_text(errno));
+  }
+  // The write buffer is empty after flush(): reuse it as the copy buffer.
+  char* chunk = writer_.storage();
+  std::uint64_t left = writer_.bytes_written();
+  while (left > 0) {
+    const std::size_t want =
+        static_cast<std::size_t>(std::min<std::uint64_t>(left, BufferedWriter::kBufferBytes));
+    const ssize_t got = ::read(fd, chunk, want);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) throw Error(subject_, "cannot read temporary file: " + errno_text(errno));
+    if (got == 0) throw Error(subject_, "cannot read temporary file: it is shorter than written");
+    out.write(chunk, static_cast<std::size_t>(got));
+    left -= static_cast<std::uint64_t>(got);
+  }
+}
+
+}  // namespace mvox
