@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 
 namespace mvox::bench {
 

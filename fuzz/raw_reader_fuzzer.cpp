@@ -21,7 +21,7 @@
 #include "memory_file.h"
 #include "pipeline/pipeline.h"
 #include "read/raw/raw_format.h"
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 
 namespace {
 

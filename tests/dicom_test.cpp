@@ -27,7 +27,7 @@
 #include "ply_mesh.h"
 #include "read/ply/ply_reader.h"
 #include "shapes.h"
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 
 namespace mvox {
 namespace {

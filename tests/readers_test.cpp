@@ -30,7 +30,7 @@
 #include "read/raw/raw_format.h"
 #include "read/raw/raw_slices_source.h"
 #include "read/raw/raw_volume_source.h"
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 
 namespace fs = std::filesystem;
 

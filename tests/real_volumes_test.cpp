@@ -10,7 +10,7 @@
 #include "mesh_compare.h"
 #include "mesh_topology.h"
 #include "read/raw/raw_format.h"
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 
 namespace mvox {
 namespace {

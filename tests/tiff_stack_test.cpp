@@ -25,7 +25,7 @@
 #include "mesh_compare.h"
 #include "mesh_topology.h"
 #include "read/raw/raw_volume_source.h"
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 #include "tiff_bytes.h"
 #include "read/tiff/tiff_stack_source.h"
 #include "volume_samples.h"

@@ -28,7 +28,7 @@
 #include "read/ply/ply_reader.h"
 #include "read/raw/raw_format.h"
 #include "read/raw/raw_volume_source.h"
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 #include "volume_samples.h"
 
 namespace fs = std::filesystem;

@@ -12,9 +12,8 @@
 #include "pipeline/mesh_job.h"
 #include "message_line.h"
 #include "read/raw/raw_format.h"
-#include "read/slice_source_factory.h"
+#include "read/input_format.h"
 #include "pipeline/termination.h"
-#include "read/volume_files.h"
 
 namespace mvox {
 namespace {
@@ -65,27 +64,21 @@ void run_extract(const ExtractArguments& args) {
   if (args.normals && format == MeshFormat::stl)
     throw CLI::ValidationError("--normals",
                                "STL has face normals only; write PLY or OBJ for vertex normals");
-  // --raw describes headerless files; a NRRD or MetaImage file describes itself. Asking for
-  // both is a usage error (exit 2), found before any file is opened.
-  for (const std::string& input : args.inputs) {
-    const HeaderedFormat headered = headered_format(input);
-    if (!args.raw_spec.empty() && headered != HeaderedFormat::none) {
-      throw CLI::ValidationError("--raw", input + " is a " + headered_format_name(headered) +
-                                              " file with its own header; leave --raw out");
-    }
-  }
   // An interrupt while the input is opened (a FIFO waiting for its writer) names it.
   set_interrupt_subject(inputs_label(args.inputs));
-  std::optional<RawFormat> raw;
-  if (!args.raw_spec.empty()) raw = parse_raw_format(args.raw_spec);
-  // Opening may decode the first slice (image stacks do, to learn the size): that is reading.
+  InputOptions input_options;
+  if (!args.raw_spec.empty()) input_options.raw = parse_raw_format(args.raw_spec);
+  // Opening reads headers (of the first slice, for image stacks): that is reading.
   const auto open_start = std::chrono::steady_clock::now();
   // Notes about the input (which DICOM series, fallbacks) wait until it has been accepted, so
   // that a refusal before the run stays one line.
   std::vector<std::string> notes;
-  DicomChoice dicom = args.dicom;
-  if (!args.quiet) dicom.note = [&notes](const std::string& line) { notes.push_back(line); };
-  OpenedInput input = open_input(args.inputs, raw, dicom);
+  input_options.dicom = args.dicom;
+  if (!args.quiet)
+    input_options.dicom.note = [&notes](const std::string& line) { notes.push_back(line); };
+  // The input-format table (read/input_format.h) picks the reader, and refuses, as usage
+  // errors, options that do not fit the input (--raw with a NRRD file, --series without DICOM).
+  OpenedInput input = open_input(args.inputs, input_options);
   std::unique_ptr<SliceSource>& source = input.source;
   const VolumeInfo& info = source->info();
   check_threshold_range(inputs_label(args.inputs), info.type, args.threshold);

@@ -1,16 +1,18 @@
 #include "read/dicom/dicom_input.h"
 
+#include "error.h"
 #include "read/dicom/dicom_file_scan.h"
 #include "read/dicom/dicom_series_source.h"
-#include "error.h"
 #include "read/input_files.h"
+#include "read/input_format.h"
 
 namespace mvox {
+
 bool is_dicom_input(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
   try {
     // A FIFO or a dangling link among the files must not hide the series: with it refused here,
-    // the folder would be read as images and called empty of slices. open_dicom_input's own
+    // the folder would be read as images and called empty of slices. the DICOM row's own
     // listing refuses it, naming it.
     files = list_input_files(inputs, InputKind::raw_files, BadEntries::skip);
   } catch (const Error&) {
@@ -23,14 +25,30 @@ bool is_dicom_input(const std::vector<std::string>& inputs) {
   return false;
 }
 
-std::unique_ptr<SliceSource> open_dicom_input(const std::vector<std::string>& inputs,
-                                              const DicomChoice& choice) {
+namespace {
+
+bool claims(const InputRequest& request) {
+  if (request.options().dicom.force) return true;
+  return !request.options().raw && is_dicom_input(request.inputs());
+}
+
+OpenedInput open(const InputRequest& request) {
+  const DicomChoice& choice = request.options().dicom;
   DicomOptions options;
   options.series_uid = choice.series_uid;
-  options.label = inputs_label(inputs);
+  options.label = inputs_label(request.inputs());
   options.note = choice.note;
-  return std::make_unique<DicomSeriesSource>(list_input_files(inputs, InputKind::raw_files),
-                                             std::move(options));
+  OpenedInput opened;
+  opened.files = request.files(InputKind::raw_files);
+  opened.source = std::make_unique<DicomSeriesSource>(opened.files, std::move(options));
+  return opened;
+}
+
+}  // namespace
+
+const InputFormat& dicom_series_format() {
+  static const InputFormat format{"DICOM series", claims, open};
+  return format;
 }
 
 }  // namespace mvox

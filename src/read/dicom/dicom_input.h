@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "read/dicom/dicom_volume_plan.h"
 #include "mvox/slice_source.h"
+#include "read/dicom/dicom_volume_plan.h"
 
 namespace mvox {
 
@@ -19,13 +19,15 @@ struct DicomChoice {
 // True when INPUT is DICOM without being told: some file it names (a directory contributes its
 // regular, non-hidden files) has no slice image extension and either the "DICM" preamble or a
 // .dcm/.dicom name. Images (PNG previews beside the series) are never opened for this. Entries
-// that cannot be read (a FIFO, a dangling link) are passed over here; open_dicom_input refuses
+// that cannot be read (a FIFO, a dangling link) are passed over here; the DICOM row refuses
 // them. False, without an error, when the inputs cannot be listed: the image reader reports that.
 bool is_dicom_input(const std::vector<std::string>& inputs);
 
-// A DicomSeriesSource over every file INPUT names (list_input_files with InputKind::raw_files,
-// so a directory's other files are offered too and skipped by content).
-std::unique_ptr<SliceSource> open_dicom_input(const std::vector<std::string>& inputs,
-                                              const DicomChoice& choice);
+struct InputFormat;
+
+// The input-format row (read/input_format.h) of DICOM series. It claims the input with --dicom,
+// or, without --raw, when is_dicom_input() says so; it opens a DicomSeriesSource over every file
+// INPUT names (a directory's other files are offered too and skipped by content).
+const InputFormat& dicom_series_format();
 
 }  // namespace mvox

@@ -1,5 +1,6 @@
 #include "read/metaimage/metaimage_file.h"
 
+#include "read/input_format.h"
 #include "read/metaimage/metaimage_header.h"
 #include "read/raw_file.h"
 #include "read/stored_volume_source.h"
@@ -33,6 +34,18 @@ std::unique_ptr<StoredVolumeSource> open_metaimage_volume(const std::string& pat
   }
   data.compressed_bytes = header.compressed_bytes;
   return std::make_unique<StoredVolumeSource>(header.volume, data);
+}
+
+const InputFormat& metaimage_volume_format() {
+  static const InputFormat format{
+      "MetaImage volume",
+      [](const InputRequest& request) {
+        return claims_headered_volume(request, "MetaImage", {".mhd", ".mha"});
+      },
+      [](const InputRequest& request) {
+        return open_headered_volume(request, "MetaImage", {".mhd", ".mha"}, open_metaimage_volume);
+      }};
+  return format;
 }
 
 }  // namespace mvox

@@ -16,4 +16,10 @@ namespace mvox {
 // or corrupt.
 std::unique_ptr<StoredVolumeSource> open_metaimage_volume(const std::string& path);
 
+struct InputFormat;
+
+// The input-format row (read/input_format.h) of MetaImage volumes: one .mhd or .mha file, which
+// takes no --raw.
+const InputFormat& metaimage_volume_format();
+
 }  // namespace mvox

@@ -3,6 +3,7 @@
 #include <string_view>
 
 #include "error.h"
+#include "read/input_format.h"
 #include "read/nrrd/nrrd_header.h"
 #include "read/raw_file.h"
 #include "read/stored_volume_source.h"
@@ -72,6 +73,18 @@ std::unique_ptr<StoredVolumeSource> open_nrrd_volume(const std::string& path) {
     data.skip_decompressed = static_cast<std::uint64_t>(header.byte_skip);
   }
   return std::make_unique<StoredVolumeSource>(header.volume, data);
+}
+
+const InputFormat& nrrd_volume_format() {
+  static const InputFormat format{
+      "NRRD volume",
+      [](const InputRequest& request) {
+        return claims_headered_volume(request, "NRRD", {".nrrd", ".nhdr"});
+      },
+      [](const InputRequest& request) {
+        return open_headered_volume(request, "NRRD", {".nrrd", ".nhdr"}, open_nrrd_volume);
+      }};
+  return format;
 }
 
 }  // namespace mvox

@@ -15,4 +15,10 @@ namespace mvox {
 // naming the data file when it is too short or corrupt.
 std::unique_ptr<StoredVolumeSource> open_nrrd_volume(const std::string& path);
 
+struct InputFormat;
+
+// The input-format row (read/input_format.h) of NRRD volumes: one .nrrd or .nhdr file, which
+// takes no --raw.
+const InputFormat& nrrd_volume_format();
+
 }  // namespace mvox

@@ -1,0 +1,103 @@
+#include "read/input_format.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <utility>
+
+#include "error.h"
+#include "read/dicom/dicom_input.h"
+#include "read/image_stack/image_stack_input.h"
+#include "read/metaimage/metaimage_file.h"
+#include "read/nrrd/nrrd_file.h"
+#include "read/raw/raw_input.h"
+#include "read/stored_volume_source.h"
+#include "read/tiff/tiff_input.h"
+
+namespace mvox {
+
+InputRequest::InputRequest(std::vector<std::string> inputs, InputOptions options)
+    : inputs_(std::move(inputs)), options_(std::move(options)) {}
+
+const std::vector<std::string>& InputRequest::files(InputKind kind) const {
+  std::optional<std::vector<std::string>>& listed =
+      kind == InputKind::image_stack ? image_stack_files_ : raw_files_;
+  if (!listed) listed = list_input_files(inputs_, kind);
+  return *listed;
+}
+
+const std::vector<const InputFormat*>& input_formats() {
+  static const std::vector<const InputFormat*> formats = {
+      &dicom_series_format(), &nrrd_volume_format(), &metaimage_volume_format(),
+      &tiff_stack_format(),   &raw_volume_format(),  &raw_slices_format(),
+      &image_stack_format()};
+  return formats;
+}
+
+OpenedInput open_input(const std::vector<std::string>& inputs, const InputOptions& options) {
+  if (options.dicom.force && options.raw)
+    throw UsageError("--dicom", "cannot be combined with --raw");
+  const InputRequest request(inputs, options);
+  for (const InputFormat* format : input_formats()) {
+    if (!format->claims(request)) continue;
+    if (!options.dicom.series_uid.empty() && format != &dicom_series_format())
+      throw UsageError("--series",
+                       "applies to DICOM input only, and INPUT is not DICOM (use --dicom for "
+                       "DICOM files without the DICM preamble or a .dcm name)");
+    return format->open(request);
+  }
+  throw Error("INPUT", "no reader takes it");  // image stacks take anything without --raw
+}
+
+std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& inputs,
+                                               const std::optional<RawFormat>& raw,
+                                               const DicomChoice& dicom) {
+  InputOptions options;
+  options.raw = raw;
+  options.dicom = dicom;
+  return open_input(inputs, options).source;
+}
+
+bool has_extension(const std::string& path, std::initializer_list<const char*> extensions) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return std::any_of(extensions.begin(), extensions.end(),
+                     [&](const char* wanted) { return extension == wanted; });
+}
+
+bool claims_headered_volume(const InputRequest& request, const char* format_name,
+                            std::initializer_list<const char*> extensions) {
+  if (request.options().raw) {
+    // --raw describes headerless files; a headered file describes itself: asking for both is
+    // a usage error, found from the names alone, before any file is opened.
+    for (const std::string& input : request.inputs())
+      if (has_extension(input, extensions))
+        throw UsageError("--raw", input + " is a " + format_name +
+                                      " file with its own header; leave --raw out");
+    return false;
+  }
+  const std::vector<std::string>& files = request.files(InputKind::image_stack);
+  return std::any_of(files.begin(), files.end(),
+                     [&](const std::string& file) { return has_extension(file, extensions); });
+}
+
+OpenedInput open_headered_volume(const InputRequest& request, const char* format_name,
+                                 std::initializer_list<const char*> extensions,
+                                 std::unique_ptr<StoredVolumeSource> (*open_file)(const std::string&)) {
+  const std::vector<std::string>& files = request.files(InputKind::image_stack);
+  const auto header = std::find_if(files.begin(), files.end(), [&](const std::string& file) {
+    return has_extension(file, extensions);
+  });
+  if (files.size() != 1)
+    throw Error(*header, std::string("is a ") + format_name +
+                             " volume, which must be the only input (got " +
+                             std::to_string(files.size()) + " files)");
+  std::unique_ptr<StoredVolumeSource> volume = open_file(*header);
+  OpenedInput opened;
+  opened.files = files;
+  if (volume->data_path() != *header) opened.files.push_back(volume->data_path());
+  opened.source = std::move(volume);
+  return opened;
+}
+
+}  // namespace mvox
