@@ -17,8 +17,8 @@
 #include "bench_arguments.h"
 #include "error.h"
 #include "in_memory_extract.h"
-#include "pipeline/mesh_job.h"
 #include "paper_datasets.h"
+#include "pipeline/mesh_job.h"
 #include "pipeline/pipeline.h"
 #include "write/mesh/ply_writer.h"
 

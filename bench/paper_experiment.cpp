@@ -23,7 +23,6 @@
 
 #include "bar_chart.h"
 #include "bench_arguments.h"
-#include "pipeline/mesh_job.h"
 #include "mvox/camera.h"
 #include "mvox/engine.h"
 #include "mvox/render_sink.h"
@@ -31,6 +30,7 @@
 #include "mvox/vertex_normals.h"
 #include "mvox/zbuffer_renderer.h"
 #include "paper_datasets.h"
+#include "pipeline/mesh_job.h"
 #include "random_phantoms.h"
 #include "stream.h"
 #include "workspace_buffer.h"

@@ -24,7 +24,6 @@
 
 #include "bench_arguments.h"
 #include "counting_sink.h"
-#include "pipeline/mesh_job.h"
 #include "mvox/camera.h"
 #include "mvox/engine.h"
 #include "mvox/render_sink.h"
@@ -32,9 +31,10 @@
 #include "mvox/vertex_normals.h"
 #include "mvox/zbuffer_renderer.h"
 #include "paper_datasets.h"
-#include "write/slice_image_writer.h"
+#include "pipeline/mesh_job.h"
 #include "stream.h"
 #include "workspace_buffer.h"
+#include "write/slice_image_writer.h"
 
 namespace mvox::bench {
 namespace {

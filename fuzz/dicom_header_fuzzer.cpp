@@ -1,7 +1,7 @@
 // Fuzzes mvox's own DICOM element walk and header checks (src/read/dicom/dicom_file_scan.h,
-// src/read/dicom/dicom_header.h, src/read/dicom/dicom_codestream.h): the code that decides whether a file is safe to
-// hand to GDCM, whose Debian build aborts or corrupts memory on malformed files. GDCM itself is
-// not called here.
+// src/read/dicom/dicom_header.h, src/read/dicom/dicom_codestream.h): the code that decides whether
+// a file is safe to hand to GDCM, whose Debian build aborts or corrupts memory on malformed files.
+// GDCM itself is not called here.
 //
 // Input: one flag byte (bit 0: the caller claims the file is DICOM, as a .dcm name does), then
 // the file's bytes. Properties: a refusal is one printable line naming the file; an accepted
@@ -12,10 +12,10 @@
 #include <optional>
 #include <string>
 
-#include "read/dicom/dicom_header.h"
 #include "error.h"
 #include "fuzz_check.h"
 #include "memory_file.h"
+#include "read/dicom/dicom_header.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;

@@ -1,14 +1,14 @@
-// Fuzzes the slice image header reader (src/read/image_stack/image_header.h), which decides from a PNG, JPEG,
-// BMP or PNM header alone what a stack holds and how much memory decoding it will take, before
-// any decoder sees the file. Properties: it never reads outside the bytes (AddressSanitizer), a
-// header it returns has a size, one or three channels and an 8- or 16-bit type, and a PNG it
-// passes (image_size_problem) has compressed data that can hold its image.
+// Fuzzes the slice image header reader (src/read/image_stack/image_header.h), which decides from a
+// PNG, JPEG, BMP or PNM header alone what a stack holds and how much memory decoding it will take,
+// before any decoder sees the file. Properties: it never reads outside the bytes
+// (AddressSanitizer), a header it returns has a size, one or three channels and an 8- or 16-bit
+// type, and a PNG it passes (image_size_problem) has compressed data that can hold its image.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 
-#include "read/compression_bounds.h"
 #include "fuzz_check.h"
+#include "read/compression_bounds.h"
 #include "read/image_stack/image_header.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

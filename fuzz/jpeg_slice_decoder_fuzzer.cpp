@@ -1,5 +1,5 @@
-// Fuzzes the strict JPEG slice decoder (src/read/image_stack/jpeg_slice_decoder.h): mvox's libjpeg error
-// manager, which turns every warning into an error, jumps out of libjpeg and destroys it.
+// Fuzzes the strict JPEG slice decoder (src/read/image_stack/jpeg_slice_decoder.h): mvox's libjpeg
+// error manager, which turns every warning into an error, jumps out of libjpeg and destroys it.
 //
 // Input: the bytes of a JPEG file. Properties: the decoder either refuses in one printable line
 // naming the file, or asks exactly once for a slice of the size the file's SOF segment

@@ -1,6 +1,6 @@
-// libFuzzer target for parse_nrrd_header (src/read/nrrd/nrrd_header.h): any bytes must either parse or
-// be refused with mvox::Error; anything else (a crash, another exception, a sanitizer report)
-// is a bug. Seeds: fuzz/corpus/nrrd_header_fuzzer/.
+// libFuzzer target for parse_nrrd_header (src/read/nrrd/nrrd_header.h): any bytes must either parse
+// or be refused with mvox::Error; anything else (a crash, another exception, a sanitizer report) is
+// a bug. Seeds: fuzz/corpus/nrrd_header_fuzzer/.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

@@ -1,6 +1,6 @@
-// Fuzzes the --raw spec parser (src/read/raw/raw_format.h) with arbitrary text. Properties: it either
-// refuses with a one-line error naming --raw, or returns a format whose sizes are consistent and
-// that reads back the same from its own text.
+// Fuzzes the --raw spec parser (src/read/raw/raw_format.h) with arbitrary text. Properties: it
+// either refuses with a one-line error naming --raw, or returns a format whose sizes are consistent
+// and that reads back the same from its own text.
 #include <cstddef>
 #include <cstdint>
 #include <string>

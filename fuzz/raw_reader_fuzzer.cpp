@@ -1,5 +1,5 @@
-// Fuzzes the raw readers (src/read/raw/raw_volume_source.h, src/read/raw/raw_slices_source.h) and the engine
-// behind them with an arbitrary file and a fuzzed --raw spec.
+// Fuzzes the raw readers (src/read/raw/raw_volume_source.h, src/read/raw/raw_slices_source.h) and
+// the engine behind them with an arbitrary file and a fuzzed --raw spec.
 //
 // Input: a spec, a newline, then the file's bytes. WxHxD:TYPE reads the bytes as one volume,
 // WxH:TYPE as one to three slice files with these bytes. Sizes are bounded (64 KiB a slice,
@@ -20,8 +20,8 @@
 #include "fuzz_check.h"
 #include "memory_file.h"
 #include "pipeline/pipeline.h"
-#include "read/raw/raw_format.h"
 #include "read/input_format.h"
+#include "read/raw/raw_format.h"
 
 namespace {
 

@@ -1,5 +1,6 @@
 // Fuzzes whole NRRD and MetaImage files, header and data, through the readers behind
-// `mvox extract` (src/read/nrrd/nrrd_file.h, src/read/metaimage/metaimage_file.h, src/read/stored_volume_source.h).
+// `mvox extract` (src/read/nrrd/nrrd_file.h, src/read/metaimage/metaimage_file.h,
+// src/read/stored_volume_source.h).
 //
 // Input: one byte choosing the format (even: NRRD, odd: MetaImage), then the file. Properties:
 // a file is refused with one printable line, or it streams exactly the declared slices; and
@@ -11,10 +12,10 @@
 #include <cstdint>
 #include <memory>
 
-#include "read/compression_bounds.h"
 #include "error.h"
 #include "fuzz_check.h"
 #include "memory_file.h"
+#include "read/compression_bounds.h"
 #include "read/metaimage/metaimage_file.h"
 #include "read/nrrd/nrrd_file.h"
 
@@ -29,9 +30,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint64_t slice =
         std::uint64_t{info.width} * info.height * mvox::sample_bytes(info.type);
     // Widened signed bytes take two bytes a sample, so twice deflate's ratio bounds a slice.
-    MVOX_FUZZ_CHECK(mvox::could_decode_to(size, 2 * mvox::kDeflateMaxRatio, slice),
-                    "a slice of " + std::to_string(slice) + " bytes from a file of " +
-                        std::to_string(size));
+    MVOX_FUZZ_CHECK(
+        mvox::could_decode_to(size, 2 * mvox::kDeflateMaxRatio, slice),
+        "a slice of " + std::to_string(slice) + " bytes from a file of " + std::to_string(size));
     mvox::SliceView view;
     std::uint32_t slices = 0;
     while (source->next_slice(&view)) {

@@ -17,17 +17,17 @@
 #include <random>
 
 #include "command_runner.h"
-#include "read/dicom/dicom_input.h"
-#include "read/dicom/dicom_series_source.h"
-#include "read/dicom/dicom_values.h"
 #include "dicom_writer.h"
 #include "error.h"
 #include "mesh_capture.h"
 #include "mesh_topology.h"
 #include "ply_mesh.h"
+#include "read/dicom/dicom_input.h"
+#include "read/dicom/dicom_series_source.h"
+#include "read/dicom/dicom_values.h"
+#include "read/input_format.h"
 #include "read/ply/ply_reader.h"
 #include "shapes.h"
-#include "read/input_format.h"
 
 namespace mvox {
 namespace {
@@ -647,7 +647,8 @@ TEST(DicomSeries, CompressedFramesTooShortForTheirDeclaredSizeAreRefused) {
     std::string bytes = file_bytes(one / "image.dcm");
     // Rows (0028,0010) and Columns (0028,0011), explicit VR US: 4000 each, 32 MB a frame.
     for (const char element : {'\x10', '\x11'}) {
-      const std::size_t at = bytes.find(std::string("\x28\x00", 2) + element + std::string("\x00US\x02\x00", 5));
+      const std::size_t at =
+          bytes.find(std::string("\x28\x00", 2) + element + std::string("\x00US\x02\x00", 5));
       ASSERT_NE(at, std::string::npos);
       bytes[at + 8] = static_cast<char>(4000 & 0xff);
       bytes[at + 9] = static_cast<char>(4000 >> 8);

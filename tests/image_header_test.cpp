@@ -1,6 +1,8 @@
-// The slice image header reader (src/read/image_stack/image_header.h): what PNG, JPEG, BMP and PNM headers
-// declare, checked against OpenCV's decoding of the same files, and the sizes refused before
-// any decoder sees them.
+// The slice image header reader (src/read/image_stack/image_header.h): what PNG, JPEG, BMP and PNM
+// headers declare, checked against OpenCV's decoding of the same files, and the sizes refused
+// before any decoder sees them.
+#include "read/image_stack/image_header.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -9,9 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "read/compression_bounds.h"
 #include "deflate.h"
-#include "read/image_stack/image_header.h"
+#include "read/compression_bounds.h"
 
 namespace mvox {
 namespace {
@@ -34,10 +35,10 @@ TEST(ImageHeader, AgreesWithOpenCvOnTheFilesOpenCvWrites) {
     const char* extension;
     const cv::Mat* image;
   };
-  for (const Case c : {Case{".png", &grey8}, Case{".png", &grey16}, Case{".png", &colour},
-                       Case{".jpg", &grey8}, Case{".jpg", &colour}, Case{".bmp", &grey8},
-                       Case{".bmp", &colour}, Case{".pgm", &grey8}, Case{".pgm", &grey16},
-                       Case{".ppm", &colour}}) {
+  for (const Case c :
+       {Case{".png", &grey8}, Case{".png", &grey16}, Case{".png", &colour}, Case{".jpg", &grey8},
+        Case{".jpg", &colour}, Case{".bmp", &grey8}, Case{".bmp", &colour}, Case{".pgm", &grey8},
+        Case{".pgm", &grey16}, Case{".ppm", &colour}}) {
     SCOPED_TRACE(std::string(c.extension) + " depth " + std::to_string(c.image->depth()) +
                  " channels " + std::to_string(c.image->channels()));
     std::vector<unsigned char> file;
@@ -91,7 +92,8 @@ TEST(ImageHeader, NotAnImageOrCutShortGivesNothing) {
 }
 
 TEST(ImageHeader, SizesThatCannotBeDecodedAreNamed) {
-  const std::vector<unsigned char> little = test::deflate_bytes(std::vector<unsigned char>(100), false);
+  const std::vector<unsigned char> little =
+      test::deflate_bytes(std::vector<unsigned char>(100), false);
   auto header = header_of(test::png_file(65535, 65535, 8, little));
   ASSERT_TRUE(header.has_value());
   EXPECT_NE(image_size_problem(*header).find("more than the 2^30 pixels"), std::string::npos);

@@ -1,5 +1,7 @@
 // The input-format table (src/read/input_format.h): which row takes each kind of INPUT, and the
 // refusals written once for all rows (options that do not fit the input are usage errors).
+#include "read/input_format.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,7 +10,6 @@
 #include "command_runner.h"
 #include "error.h"
 #include "file_io.h"
-#include "read/input_format.h"
 
 namespace fs = std::filesystem;
 
@@ -34,8 +35,10 @@ class InputFormatTable : public ::testing::Test {
     write_bytes(dir_.path() / "v.nrrd",
                 "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n" +
                     std::string(8, '\0'));
-    write_bytes(dir_.path() / "v.mha", "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\n"
-                                       "ElementDataFile = LOCAL\n" + std::string(8, '\0'));
+    write_bytes(dir_.path() / "v.mha",
+                "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\n"
+                "ElementDataFile = LOCAL\n" +
+                    std::string(8, '\0'));
     write_bytes(dir_.path() / "v.raw", std::string(8, '\0'));
     fs::create_directory(dir_.path() / "dicom");
     write_bytes(dir_.path() / "dicom/a.dcm", std::string(128, '\0') + "DICM");

@@ -31,7 +31,8 @@ void write_file(const fs::path& path, const std::string& text,
                 const std::vector<unsigned char>& bytes = {}) {
   std::ofstream out(path, std::ios::binary);
   out << text;
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
 }
 
 // The largest resident size of any process this test has run and waited for, in MiB.
@@ -98,7 +99,8 @@ TEST_F(LyingHeaders, SlicesTooLargeToExtractAreRefusedBeforeReading) {
 
 TEST_F(LyingHeaders, PngDeclaringMoreThanOpenCvDecodes) {
   fs::create_directory(dir_.path() / "stack");
-  write_file(dir_.path() / "stack/s0.png", test::png_file(65535, 65535, 8, deflate_bytes(kTenZeros, false)));
+  write_file(dir_.path() / "stack/s0.png",
+             test::png_file(65535, 65535, 8, deflate_bytes(kTenZeros, false)));
   expect_refused("extract stack -t 1", "stack/s0.png",
                  "image is 65535x65535, 4294836225 pixels: more than the 2^30 pixels");
 }
@@ -115,8 +117,8 @@ TEST_F(LyingHeaders, PngWhoseDataCannotHoldItsImage) {
 TEST_F(LyingHeaders, ALaterSliceDeclaringAnotherSizeIsRefusedBeforeDecoding) {
   ASSERT_EQ(run_mvox("phantom sphere -o stack --size 12x10x8 -q", dir_.path()).exit_code, 0);
   write_file(dir_.path() / "stack/sphere_0005.png",
-             test::png_file(30000, 30000, 8, deflate_bytes(std::vector<unsigned char>(1 << 20, 0),
-                                                           false)));
+             test::png_file(30000, 30000, 8,
+                            deflate_bytes(std::vector<unsigned char>(1 << 20, 0), false)));
   expect_refused("extract stack -t 128", "stack/sphere_0005.png",
                  "image is 30000x30000, expected 12x10 like the first slice");
 }
@@ -124,13 +126,15 @@ TEST_F(LyingHeaders, ALaterSliceDeclaringAnotherSizeIsRefusedBeforeDecoding) {
 // An honest PNG whose size exceeds the budget given: refused from its header, and --dry-run
 // says what it would need.
 TEST_F(LyingHeaders, APngLargerThanTheMemoryBudgetIsRefusedFromItsHeader) {
-  constexpr std::uint32_t kSide = 8000;  // 64 MB of samples a slice
+  constexpr std::uint32_t kSide = 8000;                                  // 64 MB of samples a slice
   std::vector<unsigned char> rows(std::size_t{kSide} * (kSide + 1), 0);  // filter byte + row
   fs::create_directory(dir_.path() / "stack");
-  write_file(dir_.path() / "stack/s0.png", test::png_file(kSide, kSide, 8, deflate_bytes(rows, false)));
+  write_file(dir_.path() / "stack/s0.png",
+             test::png_file(kSide, kSide, 8, deflate_bytes(rows, false)));
   expect_refused("extract stack -t 1 --max-memory 200M", "stack",
                  "over the --max-memory 200M budget of 200 MiB");
-  const auto dry = run_mvox("extract stack -t 1 -o mesh.ply --max-memory 4G --dry-run", dir_.path());
+  const auto dry =
+      run_mvox("extract stack -t 1 -o mesh.ply --max-memory 4G --dry-run", dir_.path());
   EXPECT_EQ(dry.exit_code, 0) << dry.output;
   EXPECT_NE(dry.output.find("8000x8000x1 u8 voxels"), std::string::npos) << dry.output;
   EXPECT_NE(dry.output.find("budget: 4.0 GiB (--max-memory 4G): fits"), std::string::npos)
@@ -169,7 +173,8 @@ class GzipTrailer : public LyingHeaders {
   }
   static std::vector<unsigned char> with_trailer_size(std::vector<unsigned char> gzip,
                                                       std::uint32_t size) {
-    for (int i = 0; i < 4; ++i) gzip[gzip.size() - 4 + i] = static_cast<unsigned char>(size >> (8 * i));
+    for (int i = 0; i < 4; ++i)
+      gzip[gzip.size() - 4 + i] = static_cast<unsigned char>(size >> (8 * i));
     return gzip;
   }
   std::string bytes_of(const std::string& name) {
@@ -199,8 +204,8 @@ TEST_F(GzipTrailer, ThatMatchesTheHeaderCannotPassShortData) {
   const std::vector<unsigned char> short_volume(volume_.begin(), volume_.end() - 200);
   // The trailer claims exactly the declared size: taken at its word, so the shortage is found
   // while streaming; the outputs are all or nothing anyway.
-  write_nrrd("short.nrrd",
-             with_trailer_size(deflate_bytes(short_volume, true), static_cast<std::uint32_t>(volume_.size())));
+  write_nrrd("short.nrrd", with_trailer_size(deflate_bytes(short_volume, true),
+                                             static_cast<std::uint32_t>(volume_.size())));
   expect_refused("extract short.nrrd -t 100", "short.nrrd", "compressed data");
   // The trailer tells the truth or claims less: measured, and refused before extraction.
   write_nrrd("short2.nrrd", deflate_bytes(short_volume, true));

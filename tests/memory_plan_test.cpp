@@ -1,7 +1,9 @@
-// A run's memory, known before reading (src/pipeline/memory_plan.h): sizes as users write and read them,
-// the default budget, --dry-run (the plan, no slice read, nothing written), --max-memory (a run
-// over it refused up front), the plan against the memory a run really took, and running out
-// of memory anyway (one line, not "std::bad_alloc").
+// A run's memory, known before reading (src/pipeline/memory_plan.h): sizes as users write and read
+// them, the default budget, --dry-run (the plan, no slice read, nothing written), --max-memory (a
+// run over it refused up front), the plan against the memory a run really took, and running out of
+// memory anyway (one line, not "std::bad_alloc").
+#include "pipeline/memory_plan.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,7 +15,6 @@
 
 #include "command_runner.h"
 #include "error.h"
-#include "pipeline/memory_plan.h"
 #include "refusal.h"
 
 namespace fs = std::filesystem;
@@ -36,7 +37,8 @@ TEST(MemorySize, ReadsWhatUsersWrite) {
   EXPECT_EQ(parse_memory_size("100000B"), 100000u);
   EXPECT_EQ(parse_memory_size("none"), 0u);
   EXPECT_EQ(parse_memory_size("0"), 0u);
-  for (const char* bad : {"", "M", "-1G", "1X", "1GG", "G1", "1e400", "9999999T", "nan", "inf", " 1G"})
+  for (const char* bad :
+       {"", "M", "-1G", "1X", "1GG", "G1", "1e400", "9999999T", "nan", "inf", " 1G"})
     EXPECT_FALSE(parse_memory_size(bad).has_value()) << bad;
 }
 
@@ -49,8 +51,8 @@ TEST(MemorySize, IsShownInBinaryUnits) {
 
 TEST(MemoryBudget, DefaultsToAtMostThePhysicalMemory) {
   const MemoryBudget budget = default_memory_budget();
-  const std::uint64_t physical =
-      static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE));
+  const std::uint64_t physical = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) *
+                                 static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE));
   EXPECT_GT(budget.bytes, 0u);
   EXPECT_LE(budget.bytes, physical);
   EXPECT_FALSE(budget.source.empty());
@@ -108,8 +110,8 @@ const std::string kVolume = "extract volume.raw --raw 1024x1024x6:u16le -t 50000
 // What the plan promises is what the run takes: never more (the plan is an upper bound, so a
 // budget holds), and not grossly less (so the plan is worth reading). Slices of 2 MiB dominate.
 TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
-  for (const std::string outputs :
-       {" -o mesh.ply", " -o mesh.ply --image picture.png", " -o mesh.stl", " -o mesh.obj --normals"}) {
+  for (const std::string outputs : {" -o mesh.ply", " -o mesh.ply --image picture.png",
+                                    " -o mesh.stl", " -o mesh.obj --normals"}) {
     SCOPED_TRACE(outputs);
     const auto result = run_mvox(kVolume + outputs + " --stats report.json -q", dir_.path());
     ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -130,16 +132,18 @@ TEST_F(MemoryPlanCli, DryRunPrintsThePlanReadsNoSliceAndWritesNothing) {
   for (int z = 1; z < 8; ++z)
     std::ofstream(dir_.path() / ("stack/sphere_000" + std::to_string(z) + ".png")) << "garbage";
   const auto before = test::tree_snapshot(dir_.path());
-  const auto dry = run_mvox("extract stack -t 128 -o m.ply --image p.png --stats r.json --dry-run",
-                            dir_.path());
+  const auto dry =
+      run_mvox("extract stack -t 128 -o m.ply --image p.png --stats r.json --dry-run", dir_.path());
   EXPECT_EQ(dry.exit_code, 0) << dry.output;
-  for (const char* line : {"12x10x8 u8 voxels", "engine workspace", "reader (slice and decoder",
-                           "reading ahead", "slice window", "picture (z-buffer", "mesh writer",
-                           "program and libraries", "total", "budget: ", "nothing read but headers"})
+  for (const char* line :
+       {"12x10x8 u8 voxels", "engine workspace", "reader (slice and decoder", "reading ahead",
+        "slice window", "picture (z-buffer", "mesh writer", "program and libraries", "total",
+        "budget: ", "nothing read but headers"})
     EXPECT_NE(dry.output.find(line), std::string::npos) << line << " in:\n" << dry.output;
   test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
   // The checks of a real run come first: a dry run refuses what the run would refuse.
-  test::expect_refused(dir_.path(), "extract stack -t 128 -o stack/sphere_0000.png --format ply --dry-run",
+  test::expect_refused(dir_.path(),
+                       "extract stack -t 128 -o stack/sphere_0000.png --format ply --dry-run",
                        "stack/sphere_0000.png", "is an input file", 2);
   test::expect_refused(dir_.path(), "extract stack -t 128 -o m.ply --dry-run --max-memory 1M",
                        "stack", "over the --max-memory 1M budget of 1.0 MiB");
@@ -174,9 +178,10 @@ TEST_F(MemoryPlanCli, RunningOutOfMemoryIsOneLineNamingTheInputAndTheSize) {
   fs::resize_file(large, std::uint64_t{4000} * 4000 * 2 * 3);  // 32 MiB slices, sparse
   int out_of_memory = 0;
   for (int limit_mib = 150; limit_mib <= 600; limit_mib += 50) {
-    const auto result = run_mvox("extract large.raw --raw 4000x4000x3:u16le -t 1 -o m.ply "
-                                 "--image p.png --max-memory none -q",
-                                 dir_.path(), "ulimit -v " + std::to_string(limit_mib * 1024) + ";");
+    const auto result = run_mvox(
+        "extract large.raw --raw 4000x4000x3:u16le -t 1 -o m.ply "
+        "--image p.png --max-memory none -q",
+        dir_.path(), "ulimit -v " + std::to_string(limit_mib * 1024) + ";");
     if (result.output.rfind("mvox: error: ", 0) != 0) continue;  // could not even start
     SCOPED_TRACE(limit_mib);
     test::expect_one_line_error(result, "large.raw");

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "command_runner.h"
-#include "pipeline/mesh_job.h"
 #include "mesh_topology.h"
 #include "obj_reader.h"
+#include "pipeline/mesh_job.h"
 #include "ply_mesh.h"
 #include "read/ply/ply_reader.h"
 #include "stl_reader.h"

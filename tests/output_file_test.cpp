@@ -1,5 +1,7 @@
 // OutputFile and the publishing of several outputs together (src/write/output_file.h,
 // src/pipeline/termination.h): all or none, even when a rename fails after another succeeded.
+#include "write/output_file.h"
+
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/fs.h>
@@ -14,9 +16,8 @@
 #include <vector>
 
 #include "command_runner.h"
-#include "file_io.h"
 #include "error.h"
-#include "write/output_file.h"
+#include "file_io.h"
 #include "pipeline/termination.h"
 
 namespace fs = std::filesystem;

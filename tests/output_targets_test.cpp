@@ -1,5 +1,5 @@
-// No output may replace an input, or another output (src/write/output_targets.h), whatever the names:
-// each way a user can point an output at a file that matters, run through the real command
+// No output may replace an input, or another output (src/write/output_targets.h), whatever the
+// names: each way a user can point an output at a file that matters, run through the real command
 // line. A refusal is a usage error (exit 2) found before anything is read or written, and the
 // whole directory, inputs included, stays byte for byte as it was. Outputs that only share a
 // directory with the input, or that name a discarding device twice, are fine.
@@ -100,8 +100,8 @@ TEST_F(OutputTargets, ADetachedDataFileIsAnInputToo) {
 }
 
 TEST_F(OutputTargets, OutputsBesideTheInputsUnderOtherNamesAreFine) {
-  const auto result = run_mvox("extract stack -t 128 -q -o stack/mesh.ply --image stack/pic.png",
-                               dir_.path());
+  const auto result =
+      run_mvox("extract stack -t 128 -q -o stack/mesh.ply --image stack/pic.png", dir_.path());
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(fs::exists(dir_.path() / "stack/mesh.ply"));
   EXPECT_TRUE(fs::exists(dir_.path() / "stack/pic.png"));
@@ -123,8 +123,9 @@ TEST_F(OutputTargets, TwoOutputsOnOneFileAreRefusedForEveryPair) {
                  "f/frame_0008.png", "is both the picture (--image f/frame_0008.png) and a frame");
   expect_refused("extract stack -t 128 -q --frames f --every 2 --format ply -o f/frame_0004.png",
                  "f/frame_0004.png", "and a frame of --frames f");
-  expect_refused("extract stack -t 128 -q --frames . --every 4 --image p.png --stats frame_0004.png",
-                 "frame_0004.png", "is both the report (--stats frame_0004.png) and a frame");
+  expect_refused(
+      "extract stack -t 128 -q --frames . --every 4 --image p.png --stats frame_0004.png",
+      "frame_0004.png", "is both the report (--stats frame_0004.png) and a frame");
   // Standard output, however it is named.
   expect_refused("extract stack -t 128 -q -o - --stats -", "standard output",
                  "is both the mesh (-o -) and the report (--stats -)");
@@ -152,9 +153,10 @@ TEST_F(OutputTargets, NamesAFrameWouldTakeAreRefusedOnlyWhenAFrameTakesThem) {
 }
 
 TEST_F(OutputTargets, DiscardingDevicesMayBeNamedTwice) {
-  const auto result = run_mvox("extract stack -t 128 -q -o /dev/null --stats /dev/null "
-                               "--image /dev/null",
-                               dir_.path());
+  const auto result = run_mvox(
+      "extract stack -t 128 -q -o /dev/null --stats /dev/null "
+      "--image /dev/null",
+      dir_.path());
   EXPECT_EQ(result.exit_code, 0) << result.output;
 }
 
@@ -187,8 +189,8 @@ TEST_F(OutputTargets, DescriptorPathsAreWrittenThroughNotRenamedOver) {
 TEST_F(OutputTargets, AClosedStandardOutputIsRefusedNotReused) {
   // mvox is started by an inner shell with standard output closed, its errors still captured.
   const std::string closed_stdout = "sh -c '\"$0\" \"$@\" >&-'";
-  test::expect_refused(dir_.path(), "extract stack -t 128 -q -o -", "standard output",
-                       "is closed", 1, closed_stdout);
+  test::expect_refused(dir_.path(), "extract stack -t 128 -q -o -", "standard output", "is closed",
+                       1, closed_stdout);
   test::expect_refused(dir_.path(), "extract stack -t 128 -q -o m.ply --stats /dev/stdout",
                        "/dev/stdout", "standard output is closed", 1, closed_stdout);
   // A file output needs no standard output.

@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "file_io.h"
 #include "error.h"
-#include "write/output_file.h"
+#include "file_io.h"
 #include "read/ply/ply_reader.h"
-#include "write/mesh/ply_writer.h"
 #include "stdout_redirect.h"
+#include "write/mesh/ply_writer.h"
+#include "write/output_file.h"
 
 namespace mvox {
 namespace {

@@ -1,7 +1,8 @@
-// --triangulate (src/write/mesh/polygon_triangulation.h): every polygon of all 256 cube configurations, for
-// both surface rules, splits into triangles whose diagonals run inside the cube; marching cubes'
-// own triangles already do; and on random volumes holding every configuration the triangulated
-// file is closed, edge-manifold and consistently wound, and each polygon's triangles cover it.
+// --triangulate (src/write/mesh/polygon_triangulation.h): every polygon of all 256 cube
+// configurations, for both surface rules, splits into triangles whose diagonals run inside the
+// cube; marching cubes' own triangles already do; and on random volumes holding every configuration
+// the triangulated file is closed, edge-manifold and consistently wound, and each polygon's
+// triangles cover it.
 #include "write/mesh/polygon_triangulation.h"
 
 #include <gtest/gtest.h>
@@ -20,10 +21,10 @@
 #include "marching_cubes_table.h"
 #include "mesh_capture.h"
 #include "mesh_topology.h"
-#include "read/ply/ply_reader.h"
-#include "write/mesh/ply_writer.h"
 #include "random_phantoms.h"
+#include "read/ply/ply_reader.h"
 #include "simulated_scanner.h"
+#include "write/mesh/ply_writer.h"
 
 namespace mvox {
 namespace {

@@ -207,8 +207,9 @@ TEST(PrefetchingSource, SlicesOfChangingShapeKeepTheirShapeAndOrder) {
       ASSERT_EQ(slice.height, 2u);
       for (std::uint32_t y = 0; y < 2; ++y)
         for (std::uint32_t x = 0; x < slice.width; ++x)
-          ASSERT_EQ(static_cast<const unsigned char*>(slice.samples)[y * slice.row_stride_bytes + x],
-                    static_cast<unsigned char>(z))
+          ASSERT_EQ(
+              static_cast<const unsigned char*>(slice.samples)[y * slice.row_stride_bytes + x],
+              static_cast<unsigned char>(z))
               << x << "," << y << "," << z;
       ++z;
     }

@@ -26,11 +26,11 @@
 #include "gtest/gtest.h"
 #include "read/image_stack/image_stack_source.h"
 #include "read/input_files.h"
+#include "read/input_format.h"
 #include "read/natural_sort.h"
 #include "read/raw/raw_format.h"
 #include "read/raw/raw_slices_source.h"
 #include "read/raw/raw_volume_source.h"
-#include "read/input_format.h"
 
 namespace fs = std::filesystem;
 
@@ -811,8 +811,7 @@ TEST(RawVolume, ManySmallSlicesAreReadAChunkAtATimeInFixedMemory) {
   // A slice larger than a chunk is read alone, in a buffer of its own size.
   const std::size_t big = RawVolumeSource::kChunkBytes + 7;
   write_bytes(dir / "big.raw", std::vector<unsigned char>(2 * big, 9));
-  RawVolumeSource big_source(dir / "big.raw",
-                             parse_raw_format(std::to_string(big) + "x1x2:u8"));
+  RawVolumeSource big_source(dir / "big.raw", parse_raw_format(std::to_string(big) + "x1x2:u8"));
   EXPECT_EQ(big_source.working_bytes(), big);
   EXPECT_EQ(read_all<std::uint8_t>(big_source).size(), 2u);
 }
@@ -837,8 +836,9 @@ TEST(RawVolume, APipeIsReadAsItArrivesWhereverItsPiecesEnd) {
   TempDir dir;
   ASSERT_EQ(::mkfifo((dir / "v.raw").c_str(), 0600), 0);
   constexpr int kDepth = 200;
-  std::thread writer(
-      [&] { trickle_into_fifo(dir / "v.raw", encode_u16(many_slices_u16(kDepth), ByteOrder::big)); });
+  std::thread writer([&] {
+    trickle_into_fifo(dir / "v.raw", encode_u16(many_slices_u16(kDepth), ByteOrder::big));
+  });
   {
     RawVolumeSource source(dir / "v.raw", parse_raw_format("5x3x200:u16be"));
     const auto slices = read_all<std::uint16_t>(source);

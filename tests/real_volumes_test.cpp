@@ -9,8 +9,8 @@
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
-#include "read/raw/raw_format.h"
 #include "read/input_format.h"
+#include "read/raw/raw_format.h"
 
 namespace mvox {
 namespace {

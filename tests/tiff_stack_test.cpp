@@ -20,16 +20,16 @@
 #include "error.h"
 #include "error_capture.h"
 #include "gtest/gtest.h"
-#include "read/image_stack/image_stack_source.h"
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
-#include "read/raw/raw_volume_source.h"
+#include "read/image_stack/image_stack_source.h"
 #include "read/input_format.h"
-#include "tiff_bytes.h"
+#include "read/raw/raw_volume_source.h"
 #include "read/tiff/tiff_stack_source.h"
-#include "volume_samples.h"
 #include "read/zlib_stream_check.h"
+#include "tiff_bytes.h"
+#include "volume_samples.h"
 
 namespace fs = std::filesystem;
 

@@ -22,13 +22,13 @@
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
+#include "ply_mesh.h"
+#include "read/input_format.h"
 #include "read/metaimage/metaimage_header.h"
 #include "read/nrrd/nrrd_header.h"
-#include "ply_mesh.h"
 #include "read/ply/ply_reader.h"
 #include "read/raw/raw_format.h"
 #include "read/raw/raw_volume_source.h"
-#include "read/input_format.h"
 #include "volume_samples.h"
 
 namespace fs = std::filesystem;
@@ -59,7 +59,6 @@ void write_file(const std::string& path, const std::string& text,
 std::string text_of(const std::vector<unsigned char>& bytes) {
   return std::string(bytes.begin(), bytes.end());
 }
-
 
 // Every sample of the volume the factory opens for `path` (no --raw).
 template <typename T>

@@ -142,8 +142,8 @@ bool ZBufferRenderer::project_polygon(const glm::vec3* positions, int vertex_cou
       ScreenVertex& v = projected_[i];
       v.x = std::lrint(sx);  // nearest subpixel; the guard band keeps it in range
       v.y = std::lrint(sy);
-      v.depth = screen_depth_.x * p.x + screen_depth_.y * p.y + screen_depth_.z * p.z +
-                screen_depth_.w;
+      v.depth =
+          screen_depth_.x * p.x + screen_depth_.y * p.y + screen_depth_.z * p.z + screen_depth_.w;
       v.inverse_w = 1.0f;
       projected_positions_[i] = p;
     }
@@ -273,8 +273,7 @@ bool ZBufferRenderer::draw_triangle(int i1, int i2) {
   const std::int64_t first_x = std::max<std::int64_t>(0, first_centre_at_or_after(min_x));
   const std::int64_t last_x = std::min<std::int64_t>(width_ - 1, last_centre_at_or_before(max_x));
   const std::int64_t first_y = std::max<std::int64_t>(0, first_centre_at_or_after(min_y));
-  const std::int64_t last_y =
-      std::min<std::int64_t>(height_ - 1, last_centre_at_or_before(max_y));
+  const std::int64_t last_y = std::min<std::int64_t>(height_ - 1, last_centre_at_or_before(max_y));
   if (first_x > last_x || first_y > last_y) return false;
 
   const std::int64_t start_x = first_x * kSubpixel + kHalfPixel;

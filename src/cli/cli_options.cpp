@@ -111,7 +111,8 @@ MeshFormat MeshChoice::format_for(const std::string& output) const {
   if (!chosen) chosen = mesh_format_of_path(output);
   // Standard output, devices and pipes (/dev/null, a FIFO) have no extension to go by: like
   // "-", they get the native format.
-  if (!chosen && (output == "-" || descriptor_named_by(output) || is_existing_non_regular_file(output)))
+  if (!chosen &&
+      (output == "-" || descriptor_named_by(output) || is_existing_non_regular_file(output)))
     chosen = MeshFormat::ply;
   // An existing directory is not a place for a mesh whatever its name: say that (exit 1, when
   // the file cannot be created) rather than ask for an extension.

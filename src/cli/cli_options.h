@@ -5,11 +5,11 @@
 #include <array>
 #include <string>
 
+#include "cli/option_validators.h"
+#include "mvox/engine.h"
+#include "picture/surface_picture.h"
 #include "write/mesh/mesh_format.h"
 #include "write/mesh/mesh_writer.h"
-#include "mvox/engine.h"
-#include "cli/option_validators.h"
-#include "picture/surface_picture.h"
 
 namespace mvox {
 

@@ -5,8 +5,8 @@
 
 #include "cli/cli_options.h"
 #include "cli/commands.h"
-#include "pipeline/mesh_job.h"
 #include "phantom_factory.h"
+#include "pipeline/mesh_job.h"
 #include "simulated_scanner.h"
 
 namespace mvox {

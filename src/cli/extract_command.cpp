@@ -7,13 +7,13 @@
 #include "cli/cli_options.h"
 #include "cli/commands.h"
 #include "error.h"
-#include "read/input_files.h"
+#include "message_line.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/mesh_job.h"
-#include "message_line.h"
-#include "read/raw/raw_format.h"
-#include "read/input_format.h"
 #include "pipeline/termination.h"
+#include "read/input_files.h"
+#include "read/input_format.h"
+#include "read/raw/raw_format.h"
 
 namespace mvox {
 namespace {
@@ -173,9 +173,10 @@ void add_extract_command(CLI::App& app) {
       ->check(CLI::Validator(
           [](std::string& text) {
             return parse_memory_size(text) ? std::string()
-                                           : "'" + text + "' is not a memory size: give e.g. "
-                                                          "512K, 64M, 2G, 1.5G, a number of "
-                                                          "bytes, or none";
+                                           : "'" + text +
+                                                 "' is not a memory size: give e.g. "
+                                                 "512K, 64M, 2G, 1.5G, a number of "
+                                                 "bytes, or none";
           },
           "SIZE"));
   command->add_flag("--dry-run", args->dry_run,

@@ -11,10 +11,10 @@
 #include "cli/allocation_failure.h"
 #include "cli/commands.h"
 #include "error.h"
-#include "pipeline/memory_plan.h"
 #include "message_line.h"
-#include "write/standard_descriptors.h"
+#include "pipeline/memory_plan.h"
 #include "pipeline/termination.h"
+#include "write/standard_descriptors.h"
 
 namespace {
 

@@ -10,9 +10,9 @@
 #include <regex>
 
 #include "cli/commands.h"
+#include "cli/option_validators.h"
 #include "error.h"
 #include "message_line.h"
-#include "cli/option_validators.h"
 #include "phantom_factory.h"
 #include "simulated_scanner.h"
 #include "write/slice_image_writer.h"

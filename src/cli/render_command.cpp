@@ -6,13 +6,13 @@
 #include "cli/cli_options.h"
 #include "cli/commands.h"
 #include "error.h"
-#include "pipeline/mesh_job.h"
-#include "picture/mesh_render.h"
 #include "message_line.h"
+#include "picture/mesh_render.h"
+#include "picture/picture_frame.h"
+#include "pipeline/mesh_job.h"
+#include "read/ply/ply_reader.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
-#include "picture/picture_frame.h"
-#include "read/ply/ply_reader.h"
 #include "write/slice_image_writer.h"
 
 namespace mvox {
@@ -34,8 +34,9 @@ void run_render(const RenderArguments& args) {
   if (choice.image.empty()) choice.image = args.output;
   const PictureOptions options = choice.options();
   check_image_extension(options.image_path);
-  check_output_targets({{options.image_path, args.output.empty() ? "--image" : "-o", "the picture"}},
-                       std::nullopt, {args.mesh});
+  check_output_targets(
+      {{options.image_path, args.output.empty() ? "--image" : "-o", "the picture"}}, std::nullopt,
+      {args.mesh});
   OutputFile file(options.image_path);  // fails now, not after reading a large mesh
 
   PlyMesh mesh = read_ply(args.mesh);

@@ -6,8 +6,8 @@
 #include <system_error>
 
 #include "error.h"
-#include "picture/live_window.h"
 #include "message_line.h"
+#include "picture/live_window.h"
 #include "picture/picture_frame.h"
 #include "write/slice_image_writer.h"
 

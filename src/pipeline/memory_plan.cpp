@@ -78,7 +78,8 @@ std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
   char* end = nullptr;
   const double number = std::strtod(text.c_str(), &end);
   std::string unit(end);
-  if (unit.size() >= 2 && (unit.substr(unit.size() - 2) == "iB" || unit.substr(unit.size() - 2) == "ib"))
+  if (unit.size() >= 2 &&
+      (unit.substr(unit.size() - 2) == "iB" || unit.substr(unit.size() - 2) == "ib"))
     unit.resize(unit.size() - 2);
   else if (unit.size() == 2 && (unit[1] == 'B' || unit[1] == 'b'))
     unit.resize(1);
@@ -127,7 +128,7 @@ void check_memory_budget(const MemoryPlan& plan, const MemoryBudget& budget,
                            memory_text(plan.process_bytes) +
                            " of it the program and its libraries), over the " +
                            (budget.source.rfind("--", 0) == 0 ? budget.source + " budget of "
-                                                               : "memory budget of ") +
+                                                              : "memory budget of ") +
                            memory_text(budget.bytes) +
                            (budget.source.rfind("--", 0) == 0 ? "" : ", " + budget.source) +
                            "; mvox extract --dry-run lists what it needs");
@@ -141,18 +142,20 @@ std::string memory_plan_text(const MemoryPlan& plan, const MemoryBudget& budget)
                   memory_text(item.bytes).c_str());
     text += line;
   }
-  std::snprintf(line, sizeof line, "  %-34s %12s\n", "this run", memory_text(plan.job_bytes()).c_str());
+  std::snprintf(line, sizeof line, "  %-34s %12s\n", "this run",
+                memory_text(plan.job_bytes()).c_str());
   text += line;
   std::snprintf(line, sizeof line, "  %-34s %12s\n", "program and libraries, already in use",
                 memory_text(plan.process_bytes).c_str());
   text += line;
-  std::snprintf(line, sizeof line, "  %-34s %12s\n", "total", memory_text(plan.total_bytes()).c_str());
+  std::snprintf(line, sizeof line, "  %-34s %12s\n", "total",
+                memory_text(plan.total_bytes()).c_str());
   text += line;
   if (budget.bytes == 0) {
     text += "  budget: none\n";
   } else {
-    text += "  budget: " + memory_text(budget.bytes) + " (" + budget.source + "): " +
-            (plan.total_bytes() <= budget.bytes ? "fits" : "exceeded") + "\n";
+    text += "  budget: " + memory_text(budget.bytes) + " (" + budget.source +
+            "): " + (plan.total_bytes() <= budget.bytes ? "fits" : "exceeded") + "\n";
   }
   return text;
 }

@@ -27,7 +27,7 @@ struct MemoryPlan {
   std::uint64_t process_bytes = 0;
 
   void add(const std::string& name, std::uint64_t bytes) { items.push_back({name, bytes}); }
-  std::uint64_t job_bytes() const;                                  // sum of the items
+  std::uint64_t job_bytes() const;                                           // sum of the items
   std::uint64_t total_bytes() const { return process_bytes + job_bytes(); }  // what the budget sees
 };
 

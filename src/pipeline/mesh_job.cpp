@@ -9,14 +9,14 @@
 #include "error.h"
 #include "message_line.h"
 #include "picture/normal_window.h"
-#include "write/output_file.h"
-#include "write/output_targets.h"
 #include "pipeline/peak_memory.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/prefetching_source.h"
 #include "pipeline/progress.h"
-#include "write/slice_image_writer.h"
 #include "pipeline/termination.h"
+#include "write/output_file.h"
+#include "write/output_targets.h"
+#include "write/slice_image_writer.h"
 
 namespace mvox {
 
@@ -84,16 +84,17 @@ void print_summary(const RunReport& r) {
 
 // What --dry-run prints: the input, the outputs, and the memory plan.
 void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& plan) {
-  std::printf("mvox extract --dry-run: %s, %ux%ux%u %s voxels, threshold %g\n",
-              r.input.c_str(), r.volume.width, r.volume.height, r.volume.depth,
-              sample_type_name(r.volume.type), r.threshold);
+  std::printf("mvox extract --dry-run: %s, %ux%ux%u %s voxels, threshold %g\n", r.input.c_str(),
+              r.volume.width, r.volume.height, r.volume.depth, sample_type_name(r.volume.type),
+              r.threshold);
   if (!job.output.empty())
     std::printf("  mesh: %s (%s)\n", job.output.c_str(), mesh_format_name(job.format));
   if (!job.picture.image_path.empty())
     std::printf("  picture: %s (%ux%u)\n", job.picture.image_path.c_str(), job.picture.width,
                 job.picture.height);
   if (!job.picture.frames_dir.empty())
-    std::printf("  frames: %s, every %u slices\n", job.picture.frames_dir.c_str(), job.picture.every);
+    std::printf("  frames: %s, every %u slices\n", job.picture.frames_dir.c_str(),
+                job.picture.every);
   if (!job.stats_path.empty()) std::printf("  report: %s\n", job.stats_path.c_str());
   std::printf("memory (fixed for the whole run, whatever the number of slices):\n%s",
               memory_plan_text(plan, job.budget).c_str());
@@ -113,7 +114,8 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
   plan.add("reader (slice and decoder buffers)", source.working_bytes());
   plan.add("reading ahead (2 batches)", PrefetchingSource::buffer_bytes(info));
-  if (job.normals || (picture && job.picture.smooth)) plan.add("slice window (4 slices)", 4 * slice);
+  if (job.normals || (picture && job.picture.smooth))
+    plan.add("slice window (4 slices)", 4 * slice);
   if (picture) {
     // The z-buffer, and an encoded picture or frame: at most about one byte a pixel for the
     // 8-bit picture, twice to allow for the encoder's own copy.

@@ -4,12 +4,12 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/memory_plan.h"
-#include "write/mesh/mesh_format.h"
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
-#include "write/stats_json.h"
 #include "picture/surface_picture.h"
+#include "pipeline/memory_plan.h"
+#include "write/mesh/mesh_format.h"
+#include "write/stats_json.h"
 
 namespace mvox {
 

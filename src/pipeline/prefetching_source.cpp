@@ -118,7 +118,8 @@ void PrefetchingSource::read_ahead() {
 }
 
 std::uint64_t PrefetchingSource::buffer_bytes(const VolumeInfo& info, std::size_t batch_bytes) {
-  const std::uint64_t slice_bytes = std::uint64_t{info.width} * info.height * sample_bytes(info.type);
+  const std::uint64_t slice_bytes =
+      std::uint64_t{info.width} * info.height * sample_bytes(info.type);
   return 2 * slices_per_batch(batch_bytes, static_cast<std::size_t>(slice_bytes)) * slice_bytes;
 }
 

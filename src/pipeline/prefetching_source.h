@@ -80,8 +80,8 @@ class PrefetchingSource final : public SliceSource {
     std::uint32_t width = 0, height = 0;
     SampleType type = SampleType::u8;
     std::size_t row_bytes = 0, slice_bytes = 0;
-    std::size_t capacity = 0;            // slices the batch may hold
-    std::atomic<std::size_t> count{0};   // slices published
+    std::size_t capacity = 0;           // slices the batch may hold
+    std::atomic<std::size_t> count{0};  // slices published
     bool closed = false;  // (under the lock) the reader adds no more: full, or the shape changed
     bool free = true;     // (under the lock) the caller is done with it: the reader may refill it
 
@@ -104,12 +104,12 @@ class PrefetchingSource final : public SliceSource {
   Batch batches_[2];
   std::mutex mutex_;
   std::condition_variable changed_;
-  int taking_ = 0;         // the batch the caller takes slices from (caller only)
-  std::size_t taken_ = 0;  // slices of it handed out (caller only)
-  double seconds_waiting_ = 0;  // in wait_for_slice (caller only)
-  bool finished_ = false;      // the inner source has no more slices (or failed)
-  bool stopping_ = false;      // the destructor wants the reader to stop
-  bool reader_done_ = false;   // the reading thread has returned
+  int taking_ = 0;                         // the batch the caller takes slices from (caller only)
+  std::size_t taken_ = 0;                  // slices of it handed out (caller only)
+  double seconds_waiting_ = 0;             // in wait_for_slice (caller only)
+  bool finished_ = false;                  // the inner source has no more slices (or failed)
+  bool stopping_ = false;                  // the destructor wants the reader to stop
+  bool reader_done_ = false;               // the reading thread has returned
   std::atomic<bool> cancel_reads_{false};  // read_cancellation.h: give up a blocked read; and
                                            // the reader stops between two slices
   std::exception_ptr error_;  // what the inner source threw, for the slice after the last good

@@ -1,8 +1,8 @@
 #include "pipeline/termination.h"
 
 #include <fcntl.h>
-#include <stdio.h>  // renameat2, RENAME_EXCHANGE (glibc 2.28)
 #include <signal.h>
+#include <stdio.h>  // renameat2, RENAME_EXCHANGE (glibc 2.28)
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -153,14 +153,12 @@ void reverse_step(Step step, const std::string& temporary, const std::string& ta
 
 // Puts `temporary` in place of `target`, keeping a previous target under the temporary's name.
 // Returns 0 or an errno; *step says what was done.
-int replace_keeping_previous(const std::string& temporary, const std::string& target,
-                             Step* step) {
+int replace_keeping_previous(const std::string& temporary, const std::string& target, Step* step) {
   // An exchange would swap a file with a directory as readily as with a file.
   struct stat status {};
   if (::lstat(target.c_str(), &status) == 0 && S_ISDIR(status.st_mode)) return EISDIR;
   for (int attempt = 0; attempt < 2; ++attempt) {
-    if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) ==
-        0) {
+    if (::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
       *step = Step::exchanged;
       return 0;
     }
@@ -193,10 +191,9 @@ int publish_output_temporaries(const std::vector<Publication>& items, std::size_
   }
   std::vector<Step> steps(items.size(), Step::none);
   for (std::size_t i = 0; i < items.size(); ++i) {
-    const int error = temporaries[i].empty()
-                          ? ENOENT
-                          : replace_keeping_previous(temporaries[i], items[i].target_path,
-                                                     &steps[i]);
+    const int error = temporaries[i].empty() ? ENOENT
+                                             : replace_keeping_previous(
+                                                   temporaries[i], items[i].target_path, &steps[i]);
     if (error == 0) continue;
     for (std::size_t k = i; k-- > 0;) reverse_step(steps[k], temporaries[k], items[k].target_path);
     *failed_index = i;

@@ -72,8 +72,8 @@ bool claims_headered_volume(const InputRequest& request, const char* format_name
     // a usage error, found from the names alone, before any file is opened.
     for (const std::string& input : request.inputs())
       if (has_extension(input, extensions))
-        throw UsageError("--raw", input + " is a " + format_name +
-                                      " file with its own header; leave --raw out");
+        throw UsageError(
+            "--raw", input + " is a " + format_name + " file with its own header; leave --raw out");
     return false;
   }
   const std::vector<std::string>& files = request.files(InputKind::image_stack);
@@ -81,9 +81,10 @@ bool claims_headered_volume(const InputRequest& request, const char* format_name
                      [&](const std::string& file) { return has_extension(file, extensions); });
 }
 
-OpenedInput open_headered_volume(const InputRequest& request, const char* format_name,
-                                 std::initializer_list<const char*> extensions,
-                                 std::unique_ptr<StoredVolumeSource> (*open_file)(const std::string&)) {
+OpenedInput open_headered_volume(
+    const InputRequest& request, const char* format_name,
+    std::initializer_list<const char*> extensions,
+    std::unique_ptr<StoredVolumeSource> (*open_file)(const std::string&)) {
   const std::vector<std::string>& files = request.files(InputKind::image_stack);
   const auto header = std::find_if(files.begin(), files.end(), [&](const std::string& file) {
     return has_extension(file, extensions);

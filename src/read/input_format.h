@@ -86,8 +86,9 @@ class StoredVolumeSource;
 
 // Opens a claimed headered volume with `open_file`: it must be the only listed file (one header
 // is one volume); the files read are the header and, when the samples live apart, its data file.
-OpenedInput open_headered_volume(const InputRequest& request, const char* format_name,
-                                 std::initializer_list<const char*> extensions,
-                                 std::unique_ptr<StoredVolumeSource> (*open_file)(const std::string&));
+OpenedInput open_headered_volume(
+    const InputRequest& request, const char* format_name,
+    std::initializer_list<const char*> extensions,
+    std::unique_ptr<StoredVolumeSource> (*open_file)(const std::string&));
 
 }  // namespace mvox

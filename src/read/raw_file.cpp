@@ -8,8 +8,8 @@
 #include <cerrno>
 #include <cstring>
 
-#include "read/buffer_allocation.h"
 #include "error.h"
+#include "read/buffer_allocation.h"
 #include "read/read_cancellation.h"
 
 namespace mvox {
@@ -82,9 +82,8 @@ void RawFile::expect_end(std::uint64_t expected_bytes, const std::string& what) 
                            " bytes expected for " + what);
 }
 
-ChunkedSliceReader::ChunkedSliceReader(RawFile& file, std::uint64_t offset,
-                                       std::size_t slice_bytes, std::uint64_t slice_count,
-                                       std::size_t chunk_bytes)
+ChunkedSliceReader::ChunkedSliceReader(RawFile& file, std::uint64_t offset, std::size_t slice_bytes,
+                                       std::uint64_t slice_count, std::size_t chunk_bytes)
     : file_(file),
       slice_bytes_(slice_bytes),
       next_offset_(offset),

@@ -5,10 +5,10 @@
 #include <system_error>
 #include <utility>
 
-#include "read/buffer_allocation.h"
-#include "read/compression_bounds.h"
 #include "error.h"
 #include "message_line.h"
+#include "read/buffer_allocation.h"
+#include "read/compression_bounds.h"
 
 namespace fs = std::filesystem;
 
@@ -117,10 +117,10 @@ bool StoredVolumeSource::next_slice(SliceView* slice) {
   if (next_index_ >= volume_.info.depth) return false;
   const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
   if (buffer_.empty())
-    resize_buffer(buffer_,
-                  std::uint64_t{volume_.info.width} * volume_.info.height *
-                      sample_bytes(volume_.info.type),
-                  data_.path, "a slice");
+    resize_buffer(
+        buffer_,
+        std::uint64_t{volume_.info.width} * volume_.info.height * sample_bytes(volume_.info.type),
+        data_.path, "a slice");
   if (inflate_) {
     inflate_->read(buffer_.data(), stored_bytes,
                    data_.skip_decompressed + stored_volume_bytes(volume_), volume_text());

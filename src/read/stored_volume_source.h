@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "read/inflate_reader.h"
 #include "mvox/slice_source.h"
+#include "read/inflate_reader.h"
 #include "read/raw_file.h"
 #include "read/stored_volume.h"
 

@@ -15,8 +15,8 @@
 
 #include "error.h"
 #include "mvox/assert.h"
-#include "write/standard_descriptors.h"
 #include "pipeline/termination.h"
+#include "write/standard_descriptors.h"
 
 namespace mvox {
 namespace {

@@ -4,9 +4,9 @@
 #include <system_error>
 
 #include "error.h"
+#include "picture/surface_picture.h"
 #include "write/file_identity.h"
 #include "write/standard_descriptors.h"
-#include "picture/surface_picture.h"
 
 namespace mvox {
 namespace {
@@ -20,7 +20,8 @@ struct Resolved {
 
 Resolved resolve(const std::string& path, int dash_descriptor) {
   Resolved resolved;
-  resolved.descriptor = path == "-" ? std::optional<int>(dash_descriptor) : descriptor_named_by(path);
+  resolved.descriptor =
+      path == "-" ? std::optional<int>(dash_descriptor) : descriptor_named_by(path);
   if (resolved.descriptor) {
     resolved.identity = identity_of_descriptor(*resolved.descriptor);
     return resolved;
@@ -38,8 +39,7 @@ Resolved resolve(const std::string& path, int dash_descriptor) {
 // two outputs would run together.
 bool same_file(const Resolved& a, const Resolved& b) {
   if (a.descriptor && b.descriptor && *a.descriptor == *b.descriptor) return true;
-  if (a.identity && b.identity)
-    return *a.identity == *b.identity && !a.identity->character_device;
+  if (a.identity && b.identity) return *a.identity == *b.identity && !a.identity->character_device;
   if (a.identity || b.identity) return false;  // one exists, the other does not
   return !a.canonical.empty() && a.canonical == b.canonical;
 }
@@ -115,9 +115,9 @@ void check_output_targets(const std::vector<OutputTarget>& outputs,
   };
   for (const std::string& input : input_files)
     if (lands_on(input))
-      throw UsageError("--frames " + frames->directory,
-                       "a frame would replace the input " + input +
-                           "; write the frames into another directory");
+      throw UsageError(
+          "--frames " + frames->directory,
+          "a frame would replace the input " + input + "; write the frames into another directory");
   for (const OutputTarget& output : outputs)
     if (lands_on(output.path))
       throw UsageError(subject_of(output), "is both " + shown(output) +

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "error.h"
-#include "write/output_file.h"
 #include "pipeline/termination.h"
+#include "write/output_file.h"
 
 namespace mvox {
 

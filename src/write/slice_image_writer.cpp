@@ -20,8 +20,8 @@ std::string extension_of(const std::string& path) {
   if (dot != std::string::npos && (slash == std::string::npos || dot > slash))
     return path.substr(dot);
   struct stat status {};
-  const bool special = ::stat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode) &&
-                       !S_ISDIR(status.st_mode);
+  const bool special =
+      ::stat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode) && !S_ISDIR(status.st_mode);
   return path == "-" || descriptor_named_by(path) || special ? ".png" : "";
 }
 

@@ -3,9 +3,9 @@
 #include <cstdint>
 #include <string>
 
-#include "pipeline/memory_plan.h"
 #include "mvox/slice_source.h"
 #include "mvox/zbuffer_renderer.h"
+#include "pipeline/memory_plan.h"
 #include "pipeline/pipeline.h"
 
 namespace mvox {

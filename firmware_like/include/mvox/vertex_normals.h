@@ -1,7 +1,8 @@
 #pragma once
 // Smooth per-vertex normals from the density gradient, as classic surface extraction does
 // (Lorensen and Cline, 1987): central differences at the two voxels a vertex lies between,
-// interpolated to where the vertex sits between them (averaged, for a midpoint). Reads the samples kept by a SliceWindow; allocates nothing.
+// interpolated to where the vertex sits between them (averaged, for a midpoint). Reads the samples
+// kept by a SliceWindow; allocates nothing.
 #include <cstddef>
 #include <glm/vec3.hpp>
 

@@ -4,9 +4,9 @@
 #include <cstdlib>
 #include <vector>
 
+#include "error.h"
 #include "read/dicom/dicom_codestream.h"
 #include "read/dicom/dicom_file_scan.h"
-#include "error.h"
 
 namespace mvox {
 namespace {

@@ -11,8 +11,8 @@
 #include <exception>
 #include <optional>
 
-#include "read/buffer_allocation.h"
 #include "error.h"
+#include "read/buffer_allocation.h"
 
 namespace mvox {
 namespace {

@@ -5,9 +5,9 @@
 #include <map>
 #include <utility>
 
+#include "error.h"
 #include "read/buffer_allocation.h"
 #include "read/dicom/dicom_file_scan.h"
-#include "error.h"
 
 namespace mvox {
 namespace {

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "mvox/slice_source.h"
 #include "read/dicom/dicom_pixel_reader.h"
 #include "read/dicom/dicom_volume_plan.h"
-#include "mvox/slice_source.h"
 
 namespace mvox {
 

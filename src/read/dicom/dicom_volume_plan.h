@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "mvox/slice_source.h"
 #include "read/dicom/dicom_header.h"
 #include "read/dicom/dicom_values.h"
-#include "mvox/slice_source.h"
 
 namespace mvox {
 

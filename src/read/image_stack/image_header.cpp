@@ -143,8 +143,8 @@ std::optional<ImageHeader> pnm_header(const unsigned char* bytes, std::size_t si
       if (at >= size) return std::nullopt;
       if (bytes[at] == '#') {
         while (at < size && bytes[at] != '\n' && bytes[at] != '\r') ++at;
-      } else if (bytes[at] == ' ' || bytes[at] == '\t' || bytes[at] == '\n' ||
-                 bytes[at] == '\r' || bytes[at] == '\v' || bytes[at] == '\f') {
+      } else if (bytes[at] == ' ' || bytes[at] == '\t' || bytes[at] == '\n' || bytes[at] == '\r' ||
+                 bytes[at] == '\v' || bytes[at] == '\f') {
         ++at;
       } else {
         break;
@@ -200,9 +200,9 @@ std::string image_size_problem(const ImageHeader& header) {
            "so large a volume as raw, NRRD or TIFF";
   if (header.format == ImageFormat::png &&
       !could_decode_to(header.encoded_bytes, kDeflateMaxRatio, header.stream_bytes))
-      return "corrupt PNG: its " + std::to_string(header.encoded_bytes) +
-             " bytes of image data cannot hold a " + size +
-             " image (deflate expands at most 1032 to 1)";
+    return "corrupt PNG: its " + std::to_string(header.encoded_bytes) +
+           " bytes of image data cannot hold a " + size +
+           " image (deflate expands at most 1032 to 1)";
   return {};
 }
 

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <utility>
 
-#include "read/buffer_allocation.h"
 #include "error.h"
+#include "read/buffer_allocation.h"
 #include "read/file_bytes.h"
 #include "read/image_stack/image_file_check.h"
 #include "read/image_stack/image_header.h"
@@ -74,7 +74,6 @@ std::string opencv_reason(const std::string& text) {
   return reason;
 }
 
-
 // Refuses an image whose header shows it is not a slice like `info` (the first slice, named
 // `first`), before anything is decoded: not grey, too large, or of another size or depth.
 void check_header(const std::string& path, const ImageHeader& header, const VolumeInfo& info,
@@ -88,11 +87,11 @@ void check_header(const std::string& path, const ImageHeader& header, const Volu
     return;
   }
   if (header.width != info.width || header.height != info.height)
-    throw Error(path, "image is " +
-                          size_text(static_cast<int>(header.width), static_cast<int>(header.height)) +
-                          ", expected " +
-                          size_text(static_cast<int>(info.width), static_cast<int>(info.height)) +
-                          " like the first slice (" + first + ")");
+    throw Error(
+        path,
+        "image is " + size_text(static_cast<int>(header.width), static_cast<int>(header.height)) +
+            ", expected " + size_text(static_cast<int>(info.width), static_cast<int>(info.height)) +
+            " like the first slice (" + first + ")");
   if (header.type != info.type && info.type != SampleType::i16)
     throw Error(path, "image is " + depth_text(to_cv_depth(header.type)) + ", expected " +
                           depth_text(to_cv_depth(info.type)) + " like the first slice (" + first +
@@ -229,7 +228,8 @@ void ImageStackSource::load(std::size_t index) {
     }
   }
 
-  if (buffer_.empty()) resize_buffer(buffer_, std::uint64_t{row_bytes_} * info_.height, path, "a slice");
+  if (buffer_.empty())
+    resize_buffer(buffer_, std::uint64_t{row_bytes_} * info_.height, path, "a slice");
   // Copy row by row: a decoded Mat may pad its rows, and reusing buffer_ keeps the slice at one
   // address for the whole run.
   for (int y = 0; y < image.rows; ++y) {

@@ -10,8 +10,8 @@
 
 #include <new>
 
-#include "read/compression_bounds.h"
 #include "error.h"
+#include "read/compression_bounds.h"
 
 namespace mvox {
 namespace {

@@ -41,22 +41,22 @@ OpenedInput open_slices(const InputRequest& request) {
 }  // namespace
 
 const InputFormat& raw_volume_format() {
-  static const InputFormat format{
-      "raw volume",
-      [](const InputRequest& request) {
-        return request.options().raw && request.options().raw->depth != 0;
-      },
-      open_volume};
+  static const InputFormat format{"raw volume",
+                                  [](const InputRequest& request) {
+                                    return request.options().raw &&
+                                           request.options().raw->depth != 0;
+                                  },
+                                  open_volume};
   return format;
 }
 
 const InputFormat& raw_slices_format() {
-  static const InputFormat format{
-      "raw slices",
-      [](const InputRequest& request) {
-        return request.options().raw && request.options().raw->depth == 0;
-      },
-      open_slices};
+  static const InputFormat format{"raw slices",
+                                  [](const InputRequest& request) {
+                                    return request.options().raw &&
+                                           request.options().raw->depth == 0;
+                                  },
+                                  open_slices};
   return format;
 }
 

@@ -5,8 +5,8 @@
 #include <system_error>
 #include <utility>
 
-#include "read/buffer_allocation.h"
 #include "error.h"
+#include "read/buffer_allocation.h"
 #include "read/raw_file.h"
 
 namespace mvox {

@@ -1,7 +1,7 @@
 #include "read/raw/raw_volume_source.h"
 
-#include "read/buffer_allocation.h"
 #include "error.h"
+#include "read/buffer_allocation.h"
 
 namespace mvox {
 

@@ -1,13 +1,13 @@
 #pragma once
 // Reads a volume stored as one headerless file of all slices back to back, e.g.
 // engine_256x256x128_uint8.raw (--raw 256x256x128:u8).
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "mvox/slice_source.h"
-#include "read/raw_file.h"
 #include "read/raw/raw_format.h"
+#include "read/raw_file.h"
 
 namespace mvox {
 

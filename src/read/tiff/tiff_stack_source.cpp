@@ -14,8 +14,8 @@
 #include <new>
 #include <utility>
 
-#include "read/compression_bounds.h"
 #include "error.h"
+#include "read/compression_bounds.h"
 #include "read/header_text.h"
 #include "read/tiff/tiff_predictor.h"
 

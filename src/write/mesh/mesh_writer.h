@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "error.h"
-#include "write/output_file.h"
 #include "mvox/polygon_sink.h"
 #include "mvox/vertex_normals.h"
 #include "write/mesh/world_transform.h"
+#include "write/output_file.h"
 
 namespace mvox {
 

@@ -66,5 +66,4 @@ void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
 
 void ObjWriter::complete_file() { out_.seal(); }
 
-
 }  // namespace mvox

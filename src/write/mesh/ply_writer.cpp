@@ -135,5 +135,4 @@ void PlyWriter::complete_file() {
   out_.seal();
 }
 
-
 }  // namespace mvox

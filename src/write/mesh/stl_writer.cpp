@@ -105,5 +105,4 @@ void StlWriter::complete_file() {
   out_.seal();
 }
 
-
 }  // namespace mvox
