@@ -2,8 +2,8 @@
 
 #include <chrono>
 
-#include "counting_sink.h"
-#include "workspace_buffer.h"
+#include "mvox/counting_sink.h"
+#include "mvox/workspace_buffer.h"
 
 namespace mvox::bench {
 

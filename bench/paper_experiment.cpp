@@ -32,8 +32,8 @@
 #include "paper_datasets.h"
 #include "pipeline/mesh_job.h"
 #include "random_phantoms.h"
-#include "stream.h"
-#include "workspace_buffer.h"
+#include "mvox/stream_volume.h"
+#include "mvox/workspace_buffer.h"
 
 namespace mvox::bench {
 namespace {

@@ -5,7 +5,7 @@
 #include <random>
 
 #include "counting_allocator.h"
-#include "counting_sink.h"
+#include "mvox/counting_sink.h"
 #include "mesh_capture.h"
 #include "mvox/engine.h"
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "counting_sink.h"
+#include "mvox/counting_sink.h"
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"

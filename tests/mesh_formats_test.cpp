@@ -20,6 +20,7 @@
 #include "file_io.h"
 #include "mesh_capture.h"
 #include "mesh_topology.h"
+#include "mvox/fan_out_sink.h"
 #include "obj_reader.h"
 #include "phantom_factory.h"
 #include "picture/normal_window.h"
@@ -45,30 +46,6 @@ using test::ScratchDirectory;
 
 // HELPERS -------------------------------------------------------------------------------------
 
-// Sends every batch to each of several sinks.
-class FanOut final : public PolygonSink {
- public:
-  explicit FanOut(std::vector<PolygonSink*> sinks) : sinks_(std::move(sinks)) {}
-  Status consume_vertices(const Vertex* v, std::size_t n) override {
-    return each([&](PolygonSink& s) { return s.consume_vertices(v, n); });
-  }
-  Status consume_polygons(const Polygon* p, std::size_t n) override {
-    return each([&](PolygonSink& s) { return s.consume_polygons(p, n); });
-  }
-  Status consume_polygon_geometry(const PolygonGeometry* p, std::size_t n) override {
-    return each([&](PolygonSink& s) { return s.consume_polygon_geometry(p, n); });
-  }
-
- private:
-  template <class Call>
-  Status each(Call call) {
-    for (PolygonSink* sink : sinks_)
-      if (const Status status = call(*sink); status != Status::ok) return status;
-    return Status::ok;
-  }
-  std::vector<PolygonSink*> sinks_;
-};
-
 // Streams phantom `name` on `grid` through the engine (polygons by value, as STL and
 // --triangulate need) into `sinks`, with the normal window when `window` is given.
 void stream_phantom(const std::string& name, sim::Grid grid, std::vector<PolygonSink*> sinks,
@@ -79,7 +56,8 @@ void stream_phantom(const std::string& name, sim::Grid grid, std::vector<Polygon
   if (spacing)
     for (int axis = 0; axis < 3; ++axis) scan.spacing[axis] = spacing[axis];
   sim::SimulatedScanner scanner(*phantom, scan);
-  FanOut fan_out(std::move(sinks));
+  FanOutSink fan_out;
+  for (PolygonSink* sink : sinks) ASSERT_TRUE(fan_out.add(sink));
   PipelineSinks pipeline_sinks;
   pipeline_sinks.mesh = &fan_out;
   if (window) pipeline_sinks.window = &window->window();

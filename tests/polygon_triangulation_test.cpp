@@ -21,6 +21,7 @@
 #include "marching_cubes_table.h"
 #include "mesh_capture.h"
 #include "mesh_topology.h"
+#include "mvox/fan_out_sink.h"
 #include "random_phantoms.h"
 #include "read/ply/ply_reader.h"
 #include "simulated_scanner.h"
@@ -219,30 +220,6 @@ TEST(PolygonTriangulation, RefusesWhatIsNotAPolygon) {
 
 // RANDOM VOLUMES -------------------------------------------------------------------------------
 
-// Sends every batch to two sinks: the engine's polygons as they are, and the writer.
-class Tee final : public PolygonSink {
- public:
-  Tee(PolygonSink& a, PolygonSink& b) : a_(a), b_(b) {}
-  Status consume_vertices(const Vertex* v, std::size_t n) override {
-    return both([&](PolygonSink& s) { return s.consume_vertices(v, n); });
-  }
-  Status consume_polygons(const Polygon* p, std::size_t n) override {
-    return both([&](PolygonSink& s) { return s.consume_polygons(p, n); });
-  }
-  Status consume_polygon_geometry(const PolygonGeometry* p, std::size_t n) override {
-    return both([&](PolygonSink& s) { return s.consume_polygon_geometry(p, n); });
-  }
-
- private:
-  template <class Call>
-  Status both(Call call) {
-    const Status first = call(a_);
-    return first != Status::ok ? first : call(b_);
-  }
-  PolygonSink& a_;
-  PolygonSink& b_;
-};
-
 // The configuration of the cube whose lowest corner is voxel (x, y, z) (-1 .. size - 1).
 unsigned cube_config(const std::vector<float>& samples, const sim::Grid& grid, int x, int y,
                      int z) {
@@ -280,7 +257,9 @@ TEST(PolygonTriangulation, RandomVolumesGiveClosedManifoldTrianglesThatCoverEach
       PlyWriterOptions options;
       options.triangulate = true;
       PlyWriter writer(dir / "triangles.ply", options);
-      Tee tee(polygons, writer);
+      FanOutSink tee;  // the engine's polygons as they are, and the writer
+      tee.add(&polygons);
+      tee.add(&writer);
       EngineOptions engine;
       engine.rule = rule;
       engine.polygon_geometry = true;

@@ -19,8 +19,8 @@
 #include "mvox/zbuffer_renderer.h"
 #include "shapes.h"
 #include "simulated_scanner.h"
-#include "stream.h"
-#include "workspace_buffer.h"
+#include "mvox/stream_volume.h"
+#include "mvox/workspace_buffer.h"
 
 namespace mvox {
 namespace {
@@ -97,11 +97,11 @@ Picture render(const sim::Phantom& phantom, const sim::ScanOptions& scan, const 
   EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
                         sim::sample_threshold(0.5, scan), options, &sink),
             Status::ok);
-  const SliceProgress progress = [&](std::uint32_t) {
+  auto count_frame = [&](std::uint32_t) {
     ++picture.frames;
     if (after_slice) after_slice(renderer);
   };
-  EXPECT_EQ(stream_volume(scanner, engine, progress, &window), Status::ok);
+  EXPECT_EQ(stream_volume(scanner, engine, SliceProgress::of(count_frame), &window), Status::ok);
   EXPECT_EQ(renderer.counters().polygons, engine.counters().polygons);
   const std::size_t n = std::size_t{renderer.width()} * renderer.height();
   picture.pixels.assign(renderer.pixels(), renderer.pixels() + n);

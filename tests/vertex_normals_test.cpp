@@ -16,7 +16,7 @@
 #include "mvox/slice_window.h"
 #include "phantom_factory.h"
 #include "simulated_scanner.h"
-#include "stream.h"
+#include "mvox/stream_volume.h"
 
 namespace mvox {
 namespace {

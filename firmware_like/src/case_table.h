@@ -3,7 +3,7 @@
 // edge ids (cube.h). Generated at compile time by running the literal merge passes
 // (cube_merge.h) on every configuration; nothing here is typed in by hand.
 #include "cube_merge.h"
-#include "mvox/engine.h"
+#include "mvox/surface_method.h"
 
 namespace mvox {
 

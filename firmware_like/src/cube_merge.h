@@ -12,7 +12,7 @@
 
 #include "cube.h"
 #include "mvox/assert.h"
-#include "mvox/engine.h"
+#include "mvox/surface_method.h"
 #include "mvox/mesh.h"
 
 namespace mvox {

@@ -213,7 +213,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
                           !job.quiet && ProgressLine::stderr_is_terminal());
     // Called after every slice, so only when it has something to do: a call and its timing
     // cost more than a slice of a few voxels takes to extract.
-    SliceProgress after_slice;
+    ProgressCallback after_slice;
     if (progress.enabled() || (picture && picture->follows_slices()))
       after_slice = [&](std::uint32_t done) {
         progress.update(done);

@@ -7,7 +7,7 @@
 
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
-#include "stream.h"
+#include "mvox/stream_volume.h"
 
 namespace mvox {
 
@@ -31,12 +31,16 @@ struct PipelineResult {
 struct PipelineSinks {
   PolygonSink* mesh = nullptr;    // timed as write_s
   PolygonSink* render = nullptr;  // timed as render_s; gets polygons by value
-  // Feeds the engine one slice behind the source, for gradient normals (sim/stream.h).
+  // Feeds the engine one slice behind the source, for gradient normals (mvox/stream_volume.h).
   SliceWindow* window = nullptr;
 };
 
 // The seconds a source has spent reading so far, for a source that times itself.
 using SourceSeconds = std::function<double()>;
+
+// Called after each slice the engine has taken, with the number taken so far (the core's
+// SliceProgress, as a std::function for hosts).
+using ProgressCallback = std::function<void(std::uint32_t slices_done)>;
 
 // Streams every slice of `source` through a new engine into the sinks and finishes the volume.
 // The engine sends polygons by value (EngineOptions::polygon_geometry) when there is a render
@@ -48,12 +52,12 @@ using SourceSeconds = std::function<double()>;
 // out the time it spent there (run_mesh_job does for frames and the live window).
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
                             const PipelineSinks& sinks, const std::string& input_label,
-                            const SliceProgress& progress = {},
+                            const ProgressCallback& progress = {},
                             const SourceSeconds& source_seconds = {});
 
 // The same with one mesh sink.
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
                             PolygonSink& sink, const std::string& input_label,
-                            const SliceProgress& progress = {});
+                            const ProgressCallback& progress = {});
 
 }  // namespace mvox

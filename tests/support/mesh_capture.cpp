@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <tuple>
 
-#include "stream.h"
+#include "mvox/stream_volume.h"
 
 namespace mvox::test {
 

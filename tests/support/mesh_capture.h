@@ -6,7 +6,7 @@
 
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
-#include "workspace_buffer.h"
+#include "mvox/workspace_buffer.h"
 
 namespace mvox::test {
 

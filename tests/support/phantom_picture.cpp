@@ -8,8 +8,8 @@
 #include "mvox/vertex_normals.h"
 #include "phantom_factory.h"
 #include "simulated_scanner.h"
-#include "stream.h"
-#include "workspace_buffer.h"
+#include "mvox/stream_volume.h"
+#include "mvox/workspace_buffer.h"
 
 namespace mvox::test {
 
@@ -45,9 +45,8 @@ PhantomPicture render_phantom(const std::string& name, const sim::Grid& grid,
   EXPECT_EQ(engine.init(engine_memory.data(), engine_memory.bytes(), info.width, info.height,
                         threshold, options, &sink),
             Status::ok);
-  SliceProgress progress;
-  if (setup.after_slice)
-    progress = [&](std::uint32_t slices_done) { setup.after_slice(slices_done, renderer); };
+  auto after_slice = [&](std::uint32_t slices_done) { setup.after_slice(slices_done, renderer); };
+  const SliceProgress progress = setup.after_slice ? SliceProgress::of(after_slice) : SliceProgress{};
   EXPECT_EQ(stream_volume(scanner, engine, progress, &window), Status::ok);
 
   picture.width = renderer.width();

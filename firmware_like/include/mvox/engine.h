@@ -15,6 +15,7 @@
 #include "mvox/polygon_sink.h"
 #include "mvox/slice.h"
 #include "mvox/status.h"
+#include "mvox/surface_method.h"
 
 namespace mvox {
 
@@ -32,36 +33,6 @@ void use_baseline_loops(Engine& engine);
 // Workspace pointers must be aligned to this: the engine's widest type is a 64-bit word.
 // malloc and new return at least this on every platform mvox targets.
 constexpr std::size_t kWorkspaceAlignment = alignof(std::uint64_t);
-
-// Which surface is extracted.
-enum class SurfaceMethod : std::uint8_t {
-  // Marching voxels: polygons of 3 to 7 vertices, vertices at the midpoints of inner/outer voxel
-  // pairs (DESIGN.md section 2). The default.
-  voxels,
-  // Classic marching cubes (Lorensen and Cline, 1987), the paper's baseline: triangles from the
-  // 256-entry table built from the 15 base configurations (marching_cubes_table.h), vertices
-  // where the linearly interpolated samples cross the threshold. The same vertices, numbered
-  // alike, as marching voxels (only their positions move along their edges). Leaves holes where
-  // a complemented configuration meets an uncomplemented one across an ambiguous face.
-  cubes,
-};
-
-// How marching voxels finds the polygons of each 2x2x2 cube. Both give identical output.
-enum class EngineKind : std::uint8_t {
-  fast,     // looks the cube up in a table generated from the literal merge passes (default)
-  literal,  // runs the paper's triangle generation and x, y, z merge passes voxel by voxel
-};
-
-// Which surface the cube configurations get.
-enum class SurfaceRule : std::uint8_t {
-  // The merge rules of the paper applied as stated: closed, hole-free, inner voxels 6-connected
-  // (DESIGN.md section 2). The default.
-  merge_rules,
-  // The paper's Table 1 for five and six inner voxels (C5.1, C5.2, C6.2): the complementary
-  // configuration's surface. Leaves holes where a cube face is ambiguous; for reproducing the
-  // paper only.
-  paper_table1,
-};
 
 struct EngineOptions {
   // Marching cubes keeps the samples of the two slices of the current cube layer too, to

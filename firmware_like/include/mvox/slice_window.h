@@ -6,7 +6,7 @@
 // Normals of the vertices that slice z completes need the gradient at slices z - 1 and z, that
 // is samples of slices z - 2 .. z + 1. So a caller that wants normals copies each slice here
 // first and feeds the engine one slice behind (the window's stored copy of slice z while slice
-// z + 1 is the newest), then the last slice after the source ends (sim/stream.h does this).
+// z + 1 is the newest), then the last slice after the source ends (stream_volume.h does this).
 #include <cstddef>
 #include <cstdint>
 

@@ -1,8 +1,8 @@
-#include "stream.h"
+#include "mvox/stream_volume.h"
 
 namespace mvox {
 
-Status stream_volume(SliceSource& source, Engine& engine, const SliceProgress& progress,
+Status stream_volume(SliceSource& source, Engine& engine, SliceProgress progress,
                      SliceWindow* window) {
   SliceView slice;
   std::uint32_t slices_done = 0;
