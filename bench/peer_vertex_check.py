@@ -2,7 +2,7 @@
 VTK's must be the same set of points.
 
 On 0/1 data at iso value 0.5 every marching-cubes vertex lies at the midpoint of an edge between
-an inner and an outer voxel, and so does every marching-voxels vertex (DESIGN.md section 2): the
+an inner and an outer voxel, and so does every marching-voxels vertex (docs/design.md section 2): the
 two methods must find exactly the same points, each once. The check thresholds a dataset to a
 0/1 mask, lets `mvox extract` read it as a raw volume and write a PLY file, and compares that
 file's vertices with the points of vtkFlyingEdges3D, vtkMarchingCubes and

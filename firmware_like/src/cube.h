@@ -1,5 +1,5 @@
 #pragma once
-// Geometry of one cube of 2x2x2 voxels: the unit every polygon lives in (DESIGN.md section 2).
+// Geometry of one cube of 2x2x2 voxels: the unit every polygon lives in (docs/design.md section 2).
 //
 // Corner c = bx | by << 1 | bz << 2, where b* = 0 is the lower voxel along that axis.
 // Edges (each hosts at most one vertex, the midpoint of its two corners):

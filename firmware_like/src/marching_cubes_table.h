@@ -3,7 +3,7 @@
 // Construction Algorithm", SIGGRAPH 1987): the triangles of each of the 256 cube
 // configurations, generated at compile time from the paper's 15 base configurations by the
 // cube's symmetries and complement, as the paper does. The baseline that the paper's experiment
-// compares marching voxels with (DESIGN.md section 2).
+// compares marching voxels with (docs/design.md section 2).
 //
 // The base configurations and their triangles are written here from the geometry of Figure 3
 // of that paper, in this project's corner and edge numbering (cube.h); the winding of the base

@@ -1,5 +1,5 @@
 // Exhaustive checks on the smallest volumes: every configuration of one cube and of two
-// face-adjacent cubes, and the case table against the face rule stated in DESIGN.md.
+// face-adjacent cubes, and the case table against the face rule stated in docs/design.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -77,7 +77,7 @@ TEST(CubeCases, EveryPairOfFaceAdjacentCubesIsClosedAndConsistent) {
                            false);
 }
 
-// The face rule (DESIGN.md, "What the merge rules produce"): on each cube face the surface
+// The face rule (docs/design.md, "What the merge rules produce"): on each cube face the surface
 // depends only on the face's four voxels. One inner corner: a segment cutting it off; two
 // adjacent: one straight segment; two diagonal: two segments, one cutting off each inner corner;
 // three: a segment cutting off the outer corner. This oracle is written from that statement

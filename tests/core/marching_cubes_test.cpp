@@ -133,7 +133,7 @@ unsigned cube_config(const Volume<float>& volume, int x, int y, int z, double th
 
 using CubeKey = std::array<int, 3>;
 
-// The cube a polygon lies in: the floor of its centroid (never on a cube face, DESIGN.md
+// The cube a polygon lies in: the floor of its centroid (never on a cube face, docs/design.md
 // section 4).
 CubeKey cube_of(const Mesh& mesh, const std::vector<std::uint32_t>& polygon) {
   double sum[3] = {};

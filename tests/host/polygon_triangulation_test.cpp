@@ -67,7 +67,7 @@ Point doubled_vector_area(const std::vector<Point>& loop) {
   return sum;
 }
 
-// Written apart from on_common_cube_face(), from DESIGN.md's definition: a cube face is a plane
+// Written apart from on_common_cube_face(), from docs/design.md's definition: a cube face is a plane
 // x = c, y = c or z = c with c an integer.
 bool share_an_integer_plane(const Point& a, const Point& b) {
   for (int k = 0; k < 3; ++k)

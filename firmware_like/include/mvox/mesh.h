@@ -4,7 +4,7 @@
 
 namespace mvox {
 
-// A polygon has 3 to 7 vertices (the loops a 2x2x2 cube can hold; DESIGN.md section 4).
+// A polygon has 3 to 7 vertices (the loops a 2x2x2 cube can hold; docs/design.md section 4).
 // Marching cubes emits triangles only.
 constexpr int kMaxPolygonVertices = 7;
 

@@ -8,7 +8,7 @@ namespace mvox {
 // Which surface is extracted.
 enum class SurfaceMethod : std::uint8_t {
   // Marching voxels: polygons of 3 to 7 vertices, vertices at the midpoints of inner/outer voxel
-  // pairs (DESIGN.md section 2). The default.
+  // pairs (docs/design.md section 2). The default.
   voxels,
   // Classic marching cubes (Lorensen and Cline, 1987), the paper's baseline: triangles from the
   // 256-entry table built from the 15 base configurations (marching_cubes_table.h), vertices
@@ -27,7 +27,7 @@ enum class EngineKind : std::uint8_t {
 // Which surface the cube configurations get.
 enum class SurfaceRule : std::uint8_t {
   // The merge rules of the paper applied as stated: closed, hole-free, inner voxels 6-connected
-  // (DESIGN.md section 2). The default.
+  // (docs/design.md section 2). The default.
   merge_rules,
   // The paper's Table 1 for five and six inner voxels (C5.1, C5.2, C6.2): the complementary
   // configuration's surface. Leaves holes where a cube face is ambiguous; for reproducing the

@@ -1,5 +1,5 @@
 #pragma once
-// Streams the engine's mesh into a PLY file (DESIGN.md section 4), never holding it in memory.
+// Streams the engine's mesh into a PLY file (docs/design.md section 4), never holding it in memory.
 #include <cstddef>
 #include <cstdint>
 #include <optional>

@@ -1,6 +1,6 @@
 #pragma once
 // Splitting the engine's polygons into triangles for --triangulate and STL, never into a
-// triangle that lies in a cube face (DESIGN.md section 4; docs/surface_rules.md, "Triangles").
+// triangle that lies in a cube face (docs/design.md section 4; docs/surface_rules.md, "Triangles").
 //
 // Every marching-voxels vertex is the midpoint of a cube edge, so it has two integer voxel
 // coordinates: it lies on two cube faces, the planes x = c, y = c or z = c (c an integer) that

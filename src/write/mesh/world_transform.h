@@ -1,6 +1,6 @@
 #pragma once
 // Where a mesh lands in the world: the one placement every mesh writer applies to the engine's
-// voxel coordinates (DESIGN.md section 4), from the input's VolumeInfo or the user's --spacing
+// voxel coordinates (docs/design.md section 4), from the input's VolumeInfo or the user's --spacing
 // and --origin.
 #include <array>
 #include <cstdint>
