@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <tuple>
 
 #include "mvox/stream_volume.h"
@@ -122,6 +123,23 @@ BinaryVolume volume_from_bits(std::uint32_t w, std::uint32_t h, std::uint32_t d,
   BinaryVolume volume(w, h, d);
   for (std::size_t i = 0; i < volume.samples.size(); ++i) volume.samples[i] = bits >> i & 1;
   return volume;
+}
+
+Volume<std::uint8_t> noise_volume(std::uint32_t w, std::uint32_t h, std::uint32_t d,
+                                  std::uint32_t seed) {
+  Volume<std::uint8_t> volume(w, h, d);
+  std::mt19937 generator(seed);
+  for (auto& sample : volume.samples) sample = static_cast<std::uint8_t>(generator() >> 24);
+  return volume;
+}
+
+SliceView slice_of(const BinaryVolume& volume, std::uint32_t z) {
+  SliceView slice;
+  slice.samples = volume.samples.data() + std::size_t{z} * volume.width * volume.height;
+  slice.width = volume.width;
+  slice.height = volume.height;
+  slice.row_stride_bytes = volume.width;
+  return slice;
 }
 
 }  // namespace mvox::test

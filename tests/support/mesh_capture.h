@@ -70,4 +70,12 @@ bool same_position(const Vertex& a, const Vertex& b);
 BinaryVolume volume_from_bits(std::uint32_t w, std::uint32_t h, std::uint32_t d,
                               std::uint64_t bits);
 
+// A reproducible volume of 8-bit samples 0..255 (raw generator bits; no distributions, whose
+// output differs between standard libraries).
+Volume<std::uint8_t> noise_volume(std::uint32_t w, std::uint32_t h, std::uint32_t d,
+                                  std::uint32_t seed);
+
+// Slice `z` of an 8-bit volume, as the engine takes it (rows packed).
+SliceView slice_of(const BinaryVolume& volume, std::uint32_t z);
+
 }  // namespace mvox::test
