@@ -26,6 +26,7 @@ class ScratchDirectory {
   ScratchDirectory();
   ~ScratchDirectory();
   const std::filesystem::path& path() const { return path_; }
+  std::string str() const { return path_.string(); }
   std::string operator/(const std::string& name) const { return (path_ / name).string(); }
   // Names of the entries, sorted: to check nothing unexpected (a temporary) was left behind.
   std::string listing() const;

@@ -20,4 +20,14 @@ void write_bytes(const std::filesystem::path& path, const std::string& bytes) {
   EXPECT_TRUE(out.good()) << path;
 }
 
+void write_bytes(const std::filesystem::path& path, const std::vector<unsigned char>& bytes) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+  EXPECT_TRUE(out.good()) << path;
+}
+
+void touch(const std::filesystem::path& path) { write_bytes(path, std::vector<unsigned char>{}); }
+
 }  // namespace mvox::test

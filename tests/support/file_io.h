@@ -2,6 +2,7 @@
 // Test support: whole files in and out, as bytes.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace mvox::test {
 
@@ -10,5 +11,11 @@ std::string read_bytes(const std::filesystem::path& path);
 
 // Creates or replaces the file at `path` with `bytes`; a failure fails the test.
 void write_bytes(const std::filesystem::path& path, const std::string& bytes);
+
+// The same for bytes held as unsigned char, creating the directories above `path` first.
+void write_bytes(const std::filesystem::path& path, const std::vector<unsigned char>& bytes);
+
+// An empty file at `path`, creating the directories above it first.
+void touch(const std::filesystem::path& path);
 
 }  // namespace mvox::test

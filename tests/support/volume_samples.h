@@ -1,12 +1,14 @@
 #pragma once
-// Test support for the volume file readers: phantom samples of each sample type, their bytes in
-// either byte order, and every sample a source delivers, so that a test can write a file with
-// known contents and compare what comes back.
+// Test support for the slice and volume file readers: phantom samples of each sample type, their
+// bytes in either byte order, and every sample a source delivers (all at once or slice by slice),
+// so that a test can write a file with known contents and compare what comes back.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -14,6 +16,7 @@
 #include "mvox/slice_source.h"
 #include "phantom.h"
 #include "phantom_factory.h"
+#include "read/input_format.h"
 #include "read/raw/raw_format.h"
 
 namespace mvox::test {
@@ -68,6 +71,19 @@ std::vector<unsigned char> encode_samples(const std::vector<T>& samples, ByteOrd
   return bytes;
 }
 
+// encode_samples of each raw sample type, for braced lists of values and as function pointers.
+inline std::vector<unsigned char> encode_u16(const std::vector<std::uint16_t>& values,
+                                             ByteOrder order) {
+  return encode_samples(values, order);
+}
+inline std::vector<unsigned char> encode_i16(const std::vector<std::int16_t>& values,
+                                             ByteOrder order) {
+  return encode_samples(values, order);
+}
+inline std::vector<unsigned char> encode_f32(const std::vector<float>& values, ByteOrder order) {
+  return encode_samples(values, order);
+}
+
 // Every sample `source` delivers, x fastest, as T; checks each view against info() and T.
 template <typename T>
 std::vector<T> read_samples(SliceSource& source) {
@@ -93,6 +109,53 @@ std::vector<T> read_samples(SliceSource& source) {
   EXPECT_EQ(slices, info.depth);
   EXPECT_FALSE(source.next_slice(&view)) << "a finished source must stay finished";
   return samples;
+}
+
+// Reads every slice of `source` as samples of type T, checking the view against info() and
+// that the view always points into the same memory, reused: one slice buffer, or the
+// working_bytes() the source says it holds (RawVolumeSource reads several small slices at once).
+template <typename T>
+std::vector<std::vector<T>> read_all(SliceSource& source) {
+  const VolumeInfo& info = source.info();
+  std::vector<std::vector<T>> slices;
+  const char* first_buffer = nullptr;
+  SliceView view;
+  while (source.next_slice(&view)) {
+    EXPECT_EQ(view.width, info.width);
+    EXPECT_EQ(view.height, info.height);
+    EXPECT_EQ(view.type, info.type);
+    EXPECT_EQ(sample_bytes(view.type), sizeof(T));
+    EXPECT_GE(view.row_stride_bytes, view.width * sizeof(T));
+    const auto* start = static_cast<const char*>(view.samples);
+    if (first_buffer == nullptr) first_buffer = start;
+    const std::size_t slice_bytes = view.row_stride_bytes * view.height;
+    if (source.working_bytes() == 0) {
+      EXPECT_EQ(start, first_buffer) << "slice " << slices.size() << " moved buffers";
+    } else {
+      EXPECT_LE(first_buffer, start) << "slice " << slices.size() << " left the buffer";
+      EXPECT_LE(start + slice_bytes, first_buffer + source.working_bytes())
+          << "slice " << slices.size() << " left the buffer";
+    }
+    std::vector<T> samples(static_cast<std::size_t>(view.width) * view.height);
+    for (std::uint32_t y = 0; y < view.height; ++y) {
+      std::memcpy(&samples[static_cast<std::size_t>(y) * view.width],
+                  static_cast<const char*>(view.samples) + y * view.row_stride_bytes,
+                  view.width * sizeof(T));
+    }
+    slices.push_back(std::move(samples));
+  }
+  EXPECT_FALSE(source.next_slice(&view)) << "a finished source must stay finished";
+  EXPECT_EQ(slices.size(), info.depth);
+  return slices;
+}
+
+// Opens the source and reads it to the end, so a refusal at any slice surfaces.
+inline void read_through(const std::vector<std::string>& inputs,
+                         const std::optional<RawFormat>& raw) {
+  std::unique_ptr<SliceSource> source = open_slice_source(inputs, raw);
+  SliceView view;
+  while (source->next_slice(&view)) {
+  }
 }
 
 }  // namespace mvox::test
