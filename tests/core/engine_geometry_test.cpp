@@ -1,8 +1,6 @@
 // Polygons sent by value (EngineOptions::polygon_geometry in mvox/engine.h): every geometry batch
 // equals its polygon batch, none without the option, a sink refusing them; and the hot loops
 // chosen for this CPU against the baseline ones, batch for batch.
-#include "mvox/engine.h"
-
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -11,6 +9,7 @@
 
 #include "mesh_capture.h"
 #include "mesh_compare.h"
+#include "mvox/engine.h"
 #include "phantom_factory.h"
 
 namespace mvox {

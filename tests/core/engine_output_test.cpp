@@ -1,8 +1,6 @@
 // The engine's output (mvox/engine.h): sample types and thresholds, batch sizes and row strides
 // that must not change it, widths around the 64-bit words of a row, the counters, and what each
 // vertex carries.
-#include "mvox/engine.h"
-
 #include <gtest/gtest.h>
 
 #include <cfloat>
@@ -15,6 +13,7 @@
 #include "mesh_capture.h"
 #include "mesh_compare.h"
 #include "mesh_topology.h"
+#include "mvox/engine.h"
 
 namespace mvox {
 namespace {

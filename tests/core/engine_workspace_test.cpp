@@ -1,8 +1,6 @@
 // The engine's workspace and lifecycle (mvox/engine.h): the workspace bound (every smaller size
 // refused, the bound itself enough for a run, README's formula, the polygon-geometry batch),
 // invalid arguments, calls out of order, and a sink that refuses.
-#include "mvox/engine.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,8 +8,9 @@
 #include <utility>
 #include <vector>
 
-#include "mvox/counting_sink.h"
 #include "mesh_capture.h"
+#include "mvox/counting_sink.h"
+#include "mvox/engine.h"
 
 namespace mvox {
 namespace {
@@ -148,7 +147,6 @@ TEST(EngineWorkspace, PolygonGeometryAddsOneBatchOfPolygonsByValue) {
         << bytes << " of " << bound;
   EXPECT_EQ(engine.init(workspace.data(), bound, 7, 5, 1, on, &sink), Status::ok);
 }
-
 
 TEST(EngineLifecycle, CallsOutOfOrderAndWrongSlicesAreRefusedWithAStatus) {
   const BinaryVolume volume = test::volume_from_bits(3, 2, 2, 0b101101011011);

@@ -1,8 +1,6 @@
 // The renderer's rasterisation (mvox/zbuffer_renderer.h): exact coverage of pixel centres under
 // the top-left rule, checked against an oracle written without the renderer's edge biases, and
 // shared edges drawn once: no gaps and no double hits where triangles meet.
-#include "mvox/zbuffer_renderer.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mvox/zbuffer_renderer.h"
 #include "render_canvas.h"
 
 namespace mvox {
