@@ -1,11 +1,15 @@
 // OutputFile and the publishing of several outputs together (src/write/output_file.h,
-// src/pipeline/termination.h): all or none, even when a rename fails after another succeeded.
+// src/pipeline/termination.h): a file appears only at its commit, with its writes in order, or
+// not at all, keeping the previous one; errors name the target (a missing directory, a directory,
+// a full device or standard output); and several outputs are published all or none, even when a
+// rename fails after another succeeded.
 #include "write/output_file.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/fs.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -19,12 +23,14 @@
 #include "error.h"
 #include "file_io.h"
 #include "pipeline/termination.h"
+#include "stdout_redirect.h"
 
 namespace fs = std::filesystem;
 
 namespace mvox {
 namespace {
 
+using test::exists;
 using test::read_bytes;
 using test::write_bytes;
 
@@ -118,6 +124,116 @@ TEST(OutputPublication, PublishTogetherChecksEveryTargetFirst) {
   EXPECT_EQ(read_bytes(dir.path() / "mesh.ply"), "old mesh");
   EXPECT_EQ(read_bytes(dir.path() / "report.json"), "old report");
   EXPECT_EQ(hidden_files(dir.path()), 0u) << dir.listing();
+}
+
+TEST(OutputFile, AppearsOnlyAtCommit) {
+  ScratchDirectory dir;
+  const std::string target = dir.file("out.bin");
+  {
+    OutputFile out(target);
+    out.write("hello world", 11);
+    EXPECT_TRUE(out.can_overwrite());
+    EXPECT_FALSE(exists(target));
+    ASSERT_EQ(dir.entries().size(), 1u);
+    EXPECT_EQ(dir.entries()[0].rfind(".out.bin.", 0), 0u) << dir.entries()[0];
+    out.overwrite(6, "W", 1);
+    EXPECT_EQ(out.bytes_written(), 11u);
+    out.commit();
+  }
+  EXPECT_EQ(read_bytes(target), "hello World");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.bin"});
+}
+
+TEST(OutputFile, WritesLargerThanTheBufferArriveInOrder) {
+  ScratchDirectory dir;
+  std::string expected;
+  {
+    OutputFile out(dir.file("big.bin"));
+    for (int round = 0; round < 3; ++round) {
+      // Small writes that straddle the buffer, then one block larger than the buffer.
+      for (int i = 0; i < 70000; ++i) {
+        const std::string piece = std::to_string(i) + ",";
+        out.write(piece.data(), piece.size());
+        expected += piece;
+      }
+      const std::string block(BufferedWriter::kBufferBytes + 17, static_cast<char>('a' + round));
+      out.write(block.data(), block.size());
+      expected += block;
+    }
+    out.overwrite(1, "#", 1);
+    expected[1] = '#';
+    out.commit();
+  }
+  EXPECT_EQ(read_bytes(dir.file("big.bin")), expected);
+}
+
+TEST(OutputFile, DestructorWithoutCommitLeavesNothingAndKeepsThePreviousFile) {
+  ScratchDirectory dir;
+  const std::string target = dir.file("keep.txt");
+  write_bytes(target, "previous");
+  {
+    OutputFile out(target);
+    out.write("new", 3);
+  }
+  EXPECT_EQ(read_bytes(target), "previous");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"keep.txt"});
+}
+
+TEST(OutputFile, MissingDirectoryNamesTheTarget) {
+  ScratchDirectory dir;
+  const std::string target = dir.file("no/such/dir/mesh.ply");
+  try {
+    OutputFile out(target);
+    FAIL() << "no error";
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()),
+              target + ": cannot create file: No such file or directory");
+    EXPECT_EQ(error.subject(), target);
+  }
+}
+
+TEST(OutputFile, DirectoryTargetIsRefused) {
+  ScratchDirectory dir;
+  EXPECT_THROW(OutputFile out(dir.file("")), Error);
+  try {
+    OutputFile out(::testing::TempDir());
+    FAIL() << "no error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("Is a directory"), std::string::npos);
+  }
+}
+
+TEST(OutputFile, FullDeviceIsReported) {
+  if (!exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  try {
+    // A device is written directly (renaming onto it would replace the device node).
+    OutputFile out("/dev/full");
+    EXPECT_FALSE(out.can_overwrite());
+    out.write("x", 1);
+    out.commit();
+    FAIL() << "no error";
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()), "/dev/full: write failed: No space left on device");
+  }
+  struct stat status {};
+  ASSERT_EQ(::stat("/dev/full", &status), 0);
+  EXPECT_TRUE(S_ISCHR(status.st_mode)) << "/dev/full was replaced";
+}
+
+TEST(OutputFile, StandardOutputFullIsReported) {
+  if (!exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  std::string message;
+  {
+    test::StdoutRedirect redirect("/dev/full");
+    try {
+      OutputFile out("-");
+      out.write("x", 1);
+      out.commit();
+    } catch (const Error& error) {
+      message = error.what();
+    }
+  }
+  EXPECT_EQ(message, "standard output: write failed: No space left on device");
 }
 
 TEST(OutputFile, ATargetNameOfTheLongestLengthGetsAShortenedTemporary) {

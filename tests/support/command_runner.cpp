@@ -41,13 +41,17 @@ ScratchDirectory::~ScratchDirectory() {
   std::filesystem::remove_all(path_, ignored);
 }
 
-std::string ScratchDirectory::listing() const {
+std::vector<std::string> ScratchDirectory::entries() const {
   std::vector<std::string> names;
   for (const auto& entry : std::filesystem::directory_iterator(path_))
     names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string ScratchDirectory::listing() const {
   std::string text;
-  for (const auto& name : names) text += name + " ";
+  for (const auto& name : entries()) text += name + " ";
   return text;
 }
 

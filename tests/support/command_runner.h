@@ -2,6 +2,7 @@
 // Test support: run the mvox binary as a user would, and a scratch directory per test.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace mvox::test {
 
@@ -28,7 +29,10 @@ class ScratchDirectory {
   const std::filesystem::path& path() const { return path_; }
   std::string str() const { return path_.string(); }
   std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-  // Names of the entries, sorted: to check nothing unexpected (a temporary) was left behind.
+  std::string file(const std::string& name) const { return *this / name; }
+  // Names of the entries, hidden ones included (a writer's temporaries are), sorted.
+  std::vector<std::string> entries() const;
+  // The same as one string: to check nothing unexpected (a temporary) was left behind.
   std::string listing() const;
 
  private:

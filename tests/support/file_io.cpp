@@ -1,6 +1,7 @@
 #include "file_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 #include <sstream>
@@ -29,5 +30,10 @@ void write_bytes(const std::filesystem::path& path, const std::vector<unsigned c
 }
 
 void touch(const std::filesystem::path& path) { write_bytes(path, std::vector<unsigned char>{}); }
+
+bool exists(const std::string& path) {
+  struct stat status {};
+  return ::stat(path.c_str(), &status) == 0;
+}
 
 }  // namespace mvox::test

@@ -18,4 +18,7 @@ void write_bytes(const std::filesystem::path& path, const std::vector<unsigned c
 // An empty file at `path`, creating the directories above it first.
 void touch(const std::filesystem::path& path);
 
+// True when `path` names something (stat() succeeds: a dangling link does not count).
+bool exists(const std::string& path);
+
 }  // namespace mvox::test
