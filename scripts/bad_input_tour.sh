@@ -5,8 +5,9 @@
 # of each already exists, so "files left" shows any new file or temporary, and any file that
 # changed, inputs included; "none" is the only good answer (but for the cases meant to succeed,
 # whose outputs are listed). Peak memory is the largest resident size of the mvox processes of
-# the case (/usr/bin/time). The same cases, with assertions, are tests/bad_input_test.cpp,
-# tests/output_targets_test.cpp, tests/lying_headers_test.cpp and tests/memory_plan_test.cpp.
+# the case (/usr/bin/time). The same cases, with assertions, are tests/cli/bad_input_*_test.cpp,
+# tests/cli/output_targets_test.cpp, tests/cli/lying_headers_test.cpp and
+# tests/cli/memory_plan_test.cpp.
 #
 #   scripts/bad_input_tour.sh            # after: cmake --build build --target mvox
 set -uo pipefail

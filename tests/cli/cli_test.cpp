@@ -1,5 +1,5 @@
 // The mvox command line end to end: a phantom written as an image stack, extracted from files,
-// read back from PLY by the strict reader. Bad input has its own suite: bad_input_test.cpp.
+// read back from PLY by the strict reader. Bad input has its own suite: bad_input_*_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cstdio>

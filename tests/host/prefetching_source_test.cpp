@@ -266,7 +266,7 @@ class TricklingSource final : public SliceSource {
 TEST(PrefetchingSource, ASlowInputReachesTheCallerAsItArrivesNotWhenABatchIsFull) {
   // Five slices of 16 bytes are far from filling a 64 KiB batch: they must still be handed over
   // while the source waits for more (a live scanner, a pipe that trickles, the FIFO of
-  // bad_input_test's AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce).
+  // bad_input_interrupts_test's AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce).
   TricklingSource inner(5, 8);
   PrefetchingSource prefetched(inner);
   SliceView slice;
