@@ -69,7 +69,7 @@ add line-table1 '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply -
 add line-frames '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 --image p.png --frames f --every 2500 -q'
 add line-stdout '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o - -q'
 add line-pipe 'cat $IN/line.raw | $MVOX extract /dev/stdin --raw 1x1x20000:u8 -t 128 -o m.ply --stats s.json -q'
-add line-2d '$MVOX extract $IN/line.raw --raw 1x1x10000:u8 -t 128 -o m.ply -q'
+add line-2d '$MVOX extract $IN/line.raw --raw 100x100x2:u8 -t 128 -o m.ply -q'  # two slices: one cube layer
 add line-short '$MVOX extract $IN/short_line.raw --raw 1x1x20000:u8 -t 128 -o m.ply -q'
 add pipe-short 'cat $IN/short_line.raw | $MVOX extract /dev/stdin --raw 1x1x20000:u8 -t 128 -o m.ply -q'
 add pipe-long 'cat $IN/line.raw $IN/line.raw | $MVOX extract /dev/stdin --raw 1x1x20000:u8 -t 128 -o m.ply -q'
