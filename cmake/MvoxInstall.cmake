@@ -4,8 +4,9 @@
 #   find_package(mvox 0.1 CONFIG REQUIRED)
 #   target_link_libraries(app PRIVATE mvox::core)   # or mvox::sim, mvox::host
 #
-# The core needs GLM only. mvox::host, when it was built, is installed too, with the modules that
-# find OpenCV and GDCM the way this build did; its package then finds them as well.
+# The core needs GLM only. mvox::host, when it was built, is installed too (it needs libtiff,
+# libjpeg, libpng and zlib), with the modules that link OpenCV and GDCM in PREFIX/lib/mvox,
+# loaded when a run needs them: a program linking mvox::host never links either.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -27,15 +28,11 @@ if(TARGET mvox_host)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/mvox-host
           FILES_MATCHING PATTERN "*.h" PATTERN "cli" EXCLUDE)
   install(EXPORT mvoxHostTargets NAMESPACE mvox:: DESTINATION ${mvox_package_dir})
-  install(FILES ${PROJECT_SOURCE_DIR}/cmake/MvoxOpenCV.cmake ${PROJECT_SOURCE_DIR}/cmake/MvoxGDCM.cmake
-          DESTINATION ${mvox_package_dir})
+  # The modules that link OpenCV and GDCM, where module_loader.cpp looks for them.
+  install(TARGETS ${MVOX_MODULES} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/mvox)
 endif()
 if(TARGET mvox)
   install(TARGETS mvox RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-endif()
-if(TARGET mvox_live_window)
-  # Beside the executable, where LiveWindow looks first (src/picture/live_window.h).
-  install(TARGETS mvox_live_window LIBRARY DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/mvoxConfig.cmake.in

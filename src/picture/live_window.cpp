@@ -2,10 +2,10 @@
 
 #include <dlfcn.h>
 #include <limits.h>
-#include <unistd.h>
 
 #include <cstdlib>
 
+#include "modules/module_loader.h"
 #include "picture/display_probe.h"
 #include "picture/live_window/live_window_module.h"
 
@@ -36,61 +36,27 @@ bool has_display() {
 
 #ifdef MVOX_HAVE_LIVE_WINDOW
 
-// The directory of the running executable, with a final '/', or "" if the kernel will not say.
-std::string executable_directory() {
-  char path[PATH_MAX];
-  const ssize_t length = readlink("/proc/self/exe", path, sizeof path - 1);
-  if (length <= 0) return "";
-  const std::string exe(path, static_cast<std::size_t>(length));
-  return exe.substr(0, exe.rfind('/') + 1);
-}
-
-std::string dl_error_text() {
-  const char* text = dlerror();
-  return text != nullptr ? text : "unknown dlopen error";
-}
+constexpr ModuleName kLiveWindow{kModuleName, "live window module (OpenCV highgui)",
+                                 "OpenCV's highgui (apt-get install libopencv-highgui-dev)"};
 
 // Loads the module and resolves its functions, or says why not.
 bool load_module(std::string* why_not) {
   if (g_module.open != nullptr) return true;
-  // Beside the executable first: that is the module built with it. The plain name second, for
-  // installs that keep libraries elsewhere; a stale one found there is caught by the version.
-  void* handle = nullptr;
-  const std::string directory = executable_directory();
-  const std::string beside = directory + kModuleName;
-  if (!directory.empty() && access(beside.c_str(), F_OK) == 0) {
-    handle = dlopen(beside.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (handle == nullptr) {
-      *why_not = "cannot load the live window module: " + dl_error_text();
-      return false;
-    }
-  } else {
-    handle = dlopen(kModuleName, RTLD_NOW | RTLD_LOCAL);
-    if (handle == nullptr) {
-      *why_not = "cannot load the live window module: " + dl_error_text() + " (looked " +
-                 (directory.empty() ? "" : "in " + directory + " and ") +
-                 "on the library search path)";
-      return false;
-    }
-  }
-  // A module that fails any check stays loaded but unused; see Module for why no dlclose.
-  const auto version = reinterpret_cast<decltype(&mvox_live_window_api_version)>(
-      dlsym(handle, "mvox_live_window_api_version"));
+  void* handle = mvox::load_module(kLiveWindow, "mvox_live_window_api_version",
+                                   MVOX_LIVE_WINDOW_API_VERSION, why_not);
+  if (handle == nullptr) return false;
   Module module;
-  module.open = reinterpret_cast<decltype(module.open)>(dlsym(handle, "mvox_live_window_open"));
-  module.show = reinterpret_cast<decltype(module.show)>(dlsym(handle, "mvox_live_window_show"));
-  module.close = reinterpret_cast<decltype(module.close)>(dlsym(handle, "mvox_live_window_close"));
-  if (version == nullptr || module.open == nullptr || module.show == nullptr ||
-      module.close == nullptr) {
+  module.open =
+      reinterpret_cast<decltype(module.open)>(module_symbol(handle, "mvox_live_window_open"));
+  module.show =
+      reinterpret_cast<decltype(module.show)>(module_symbol(handle, "mvox_live_window_show"));
+  module.close =
+      reinterpret_cast<decltype(module.close)>(module_symbol(handle, "mvox_live_window_close"));
+  if (module.open == nullptr || module.show == nullptr || module.close == nullptr) {
     *why_not = std::string("the live window module lacks its functions: ") + kModuleName;
     return false;
   }
-  if (version() != MVOX_LIVE_WINDOW_API_VERSION) {
-    *why_not = "the live window module has interface version " + std::to_string(version()) +
-               ", this mvox needs " + std::to_string(MVOX_LIVE_WINDOW_API_VERSION);
-    return false;
-  }
-  // Where the dynamic loader really found it, which for the plain name only it knows.
+  // Where the dynamic loader really found it.
   Dl_info info{};
   if (dladdr(reinterpret_cast<void*>(module.open), &info) != 0 && info.dli_fname != nullptr)
     module.path = info.dli_fname;

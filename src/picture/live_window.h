@@ -10,10 +10,9 @@ namespace mvox {
 
 // A window that shows 8-bit grey images, for watching slices go by during an extraction.
 //
-// The window lives in libmvox_live_window.so, loaded with dlopen on the first open(): first from
-// the directory that holds the running executable (/proc/self/exe), where the build puts it
-// beside mvox, then by its plain name through the normal dlopen search (LD_LIBRARY_PATH,
-// ld.so.cache). Once loaded it stays loaded until the process ends.
+// The window lives in libmvox_live_window.so, loaded with dlopen on the first open() from where
+// mvox's modules are (modules/module_loader.h). Once loaded it stays loaded until the process
+// ends.
 //
 // At most one LiveWindow exists at a time. Call open(), show() and the destructor from one
 // thread: the toolkit's windows belong to the thread that created the first one.

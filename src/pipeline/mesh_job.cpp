@@ -173,7 +173,9 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     throw Error(job.input_label, "slices of " + std::to_string(info.width) + "x" +
                                      std::to_string(info.height) +
                                      " voxels are too large to extract");
-  if (want_picture) initialize_image_codecs();  // counted as library memory, not the run's
+  // A picture of a type mvox does not write itself loads OpenCV's codecs now, so that they count
+  // as library memory, not the run's. (Frames are always PNG.)
+  if (!job.picture.image_path.empty()) initialize_image_codecs(job.picture.image_path);
   report.memory_plan = plan_job_memory(source, job, engine);
   // The job's own memory is measured from here, as the plan's is.
   report.start_memory_bytes = report.memory_plan.process_bytes;

@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cstring>
+#include <new>
+#include <system_error>
+#include <utility>
 
 #include "read/read_cancellation.h"
 
@@ -11,16 +14,28 @@ namespace {
 // How long a caller that found no slice ready waits before it looks again, unless woken.
 constexpr std::chrono::milliseconds kLookAgain(1);
 
+// A thread's stack is memory too: when the system cannot give one (EAGAIN, say under ulimit -v)
+// the run has run out of memory, and is reported as such, naming the input (cli/main.cpp),
+// rather than as "Resource temporarily unavailable".
+template <class Function>
+std::thread start_thread(Function&& function) {
+  try {
+    return std::thread(std::forward<Function>(function));
+  } catch (const std::system_error&) {
+    throw std::bad_alloc();
+  }
+}
+
 }  // namespace
 
 PrefetchingSource::PrefetchingSource(SliceSource& inner, std::size_t batch_bytes)
-    : inner_(inner), info_(inner.info()), batch_bytes_(batch_bytes), reader_([this] {
+    : inner_(inner), info_(inner.info()), batch_bytes_(batch_bytes), reader_(start_thread([this] {
         set_reads_cancelled_by(&cancel_reads_);
         read_ahead();
         std::lock_guard<std::mutex> lock(mutex_);
         reader_done_ = true;
         changed_.notify_all();
-      }) {}
+      })) {}
 
 PrefetchingSource::~PrefetchingSource() {
   std::unique_lock<std::mutex> lock(mutex_);

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <mutex>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -95,7 +96,13 @@ void install_termination_handling() {
       sigaddset(&signals, signal_number);
     }
     if (pthread_sigmask(SIG_BLOCK, &signals, nullptr) != 0) return;
-    std::thread(wait_for_interrupt, signals).detach();
+    try {
+      std::thread(wait_for_interrupt, signals).detach();
+    } catch (const std::system_error&) {
+      // No thread to take them (no memory for its stack): the signals keep their default
+      // action rather than wait, blocked, for a thread that does not exist.
+      pthread_sigmask(SIG_UNBLOCK, &signals, nullptr);
+    }
   });
 }
 

@@ -2,10 +2,12 @@
 
 #include <sys/stat.h>
 
-#include <opencv2/imgcodecs.hpp>
+#include <cctype>
 
 #include "error.h"
+#include "modules/image_codecs.h"
 #include "write/output_file.h"
+#include "write/png_encoder.h"
 #include "write/standard_descriptors.h"
 
 namespace mvox {
@@ -25,24 +27,22 @@ std::string extension_of(const std::string& path) {
   return path == "-" || descriptor_named_by(path) || special ? ".png" : "";
 }
 
+bool is_png(const std::string& extension) {
+  std::string lower = extension;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower == ".png";
+}
+
 }  // namespace
 
-void initialize_image_codecs() {
-  try {
-    cv::haveImageWriter("image.png");
-  } catch (const cv::Exception&) {
-    // Only the registration matters here; a real encoder reports its own errors.
-  }
+void initialize_image_codecs(const std::string& path) {
+  if (!is_png(extension_of(path))) load_image_codecs(path);
 }
 
 void check_image_extension(const std::string& path) {
   const std::string extension = extension_of(path);
-  bool ok = false;
-  try {
-    ok = !extension.empty() && cv::haveImageWriter("image" + extension);
-  } catch (const cv::Exception&) {
-    ok = false;
-  }
+  // PNG is mvox's own; OpenCV (its module) is asked about any other type.
+  const bool ok = is_png(extension) || (!extension.empty() && opencv_can_write(path, extension));
   if (!ok)
     throw Error(
         path, extension.empty()
@@ -61,22 +61,15 @@ std::vector<unsigned char> encode_slice_image(const std::string& path, const Sli
   if (slice.type != SampleType::u8 && slice.type != SampleType::u16)
     throw Error(path, std::string("cannot write ") + sample_type_name(slice.type) +
                           " samples as an image (only 8- and 16-bit)");
-  const int cv_type = slice.type == SampleType::u8 ? CV_8UC1 : CV_16UC1;
-  // OpenCV only reads the pixels; the const_cast is how its Mat wraps external memory.
-  const cv::Mat image(static_cast<int>(slice.height), static_cast<int>(slice.width), cv_type,
-                      const_cast<void*>(slice.samples), slice.row_stride_bytes);
   const std::string extension = extension_of(path);
-  std::vector<unsigned char> encoded;
-  bool ok = false;
-  try {
-    ok = cv::imencode(extension, image, encoded);
-  } catch (const cv::Exception&) {
-    ok = false;
+  if (is_png(extension)) {
+    try {
+      return encode_png(slice);
+    } catch (const Error& e) {
+      throw Error(path, e.problem());
+    }
   }
-  if (!ok)
-    throw Error(path, "cannot encode a " + std::string(sample_type_name(slice.type)) +
-                          " image with extension '" + extension + "'");
-  return encoded;
+  return encode_image_with_opencv(path, extension, slice);
 }
 
 }  // namespace mvox

@@ -1,6 +1,7 @@
 #pragma once
 // Writes one slice as a grayscale image file (PNG, TIFF or PGM by extension; 8- or 16-bit),
-// all or nothing: the image is encoded in memory and committed through OutputFile.
+// all or nothing: the image is encoded in memory and committed through OutputFile. PNG is
+// encoded by mvox (png_encoder.h); other types by OpenCV, in its module (modules/image_codecs.h).
 #include <string>
 #include <vector>
 
@@ -15,14 +16,15 @@ void write_slice_image(const std::string& path, const SliceView& slice);
 // file itself (say, together with others). Throws mvox::Error naming `path`.
 std::vector<unsigned char> encode_slice_image(const std::string& path, const SliceView& slice);
 
-// Makes OpenCV register its image codecs now. It does so on first use of any of them, and that
-// costs about 10 MiB of resident memory (Debian's OpenCV registers GDAL's drivers with them):
-// a run that will encode or decode through OpenCV calls this before its memory is planned, so
-// that the plan's "program and libraries" line includes it (memory_plan.h).
-void initialize_image_codecs();
+// Loads OpenCV's image codecs now when a picture named `path` will be encoded through them (any
+// type but PNG), so that their memory, about 10 MiB once registered (Debian's OpenCV registers
+// GDAL's drivers with them), counts as the program's when the run's memory is planned
+// (memory_plan.h). Throws mvox::Error(path, reason) when their module cannot be loaded.
+void initialize_image_codecs(const std::string& path);
 
 // Throws mvox::Error naming `path` unless its extension names an image format mvox can write
-// (.png, .pgm, .tif, .bmp, .jpg...): checked before a long run rather than after it. Standard
+// (.png, .pgm, .tif, .bmp, .jpg...): checked before a long run rather than after it; any type
+// but PNG loads OpenCV's module to ask it. Standard
 // output ("-", /dev/stdout), devices and pipes without an extension get PNG.
 void check_image_extension(const std::string& path);
 

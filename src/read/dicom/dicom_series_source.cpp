@@ -93,6 +93,7 @@ DicomSeriesSource::DicomSeriesSource(const std::vector<std::string>& files, Dico
     const std::uintmax_t bytes = std::filesystem::file_size(header.path, error);
     if (!error) largest_file_bytes_ = std::max<std::uint64_t>(largest_file_bytes_, bytes);
   }
+  reader_.load(plan_.headers.front().path);
 }
 
 std::uint64_t DicomSeriesSource::working_bytes() const {

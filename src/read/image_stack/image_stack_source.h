@@ -1,6 +1,8 @@
 #pragma once
-// Reads a volume stored as one grayscale image per slice (PNG, TIFF, JPEG, BMP, PGM) via OpenCV;
-// JPEG via libjpeg directly, strictly (jpeg_slice_decoder.h).
+// Reads a volume stored as one grayscale image per slice (PNG, TIFF, JPEG, BMP, PGM): grey PNG
+// through libpng (png_slice_decoder.h) and JPEG through libjpeg, strictly
+// (jpeg_slice_decoder.h); every other format through OpenCV, whose module
+// (modules/image_codecs.h) is loaded only when a slice's file name or the first PNG needs it.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -19,10 +21,11 @@ namespace mvox {
 // Every slice's header is checked against the first before it is decoded, so a slice that
 // declares another or a gigantic size is refused before a decoder allocates for it.
 // Memory: one slice buffer, reused for every slice and allocated at the first, plus the slice's
-// file and OpenCV's decoded image while a slice is being decoded and copied (working_bytes()).
+// file while it is decoded, and OpenCV's decoded image when OpenCV decodes (working_bytes()).
 // Throws mvox::Error naming the file for an unreadable or corrupt image, a colour image, an
-// unsupported bit depth, a size or bit depth that differs from the first slice, or an image of
-// more than 2^30 pixels (OpenCV's limit).
+// unsupported bit depth, a size or bit depth that differs from the first slice, an image of
+// more than 2^30 pixels (OpenCV's limit), or, when a slice needs OpenCV, a module that cannot
+// be loaded.
 class ImageStackSource : public SliceSource {
  public:
   explicit ImageStackSource(std::vector<std::string> files);
@@ -35,6 +38,10 @@ class ImageStackSource : public SliceSource {
   // Decodes files_[index] into buffer_, checking it against info_ (or setting info_ for the
   // first file).
   void load(std::size_t index);
+  // The slice buffer for a decoded image of `path`, once the image is checked against info_
+  // (or has set it, for the first file); `depth` words the image's sample type for messages.
+  unsigned char* slice_buffer(const std::string& path, std::uint32_t width, std::uint32_t height,
+                              SampleType type, int channels, const std::string& depth);
 
   std::vector<std::string> files_;
   VolumeInfo info_;
@@ -42,6 +49,7 @@ class ImageStackSource : public SliceSource {
   std::vector<unsigned char> file_bytes_;  // the current slice's file, while it is decoded
   std::size_t row_bytes_ = 0;
   std::uint64_t first_file_bytes_ = 0;  // size of the first file, for working_bytes()
+  bool uses_opencv_ = false;            // some slice is decoded by OpenCV
   std::size_t next_index_ = 0;          // file the next call to next_slice returns
   // File whose samples are in buffer_: the constructor decodes the first one only when its
   // header cannot be read.

@@ -1,0 +1,130 @@
+#include "read/image_stack/png_slice_decoder.h"
+
+#include <png.h>
+
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <vector>
+
+#include "error.h"
+
+namespace mvox {
+namespace {
+
+std::uint32_t big_endian_32(const unsigned char* p) {
+  return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 | p[3];
+}
+
+constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+
+// Everything libpng's callbacks and the jump back need. Plain data only: libpng leaves a
+// function by longjmp, which would skip the destructors of C++ objects in the frames between.
+struct Decoding {
+  const unsigned char* bytes;
+  std::size_t size;
+  std::size_t position;
+  char error[200];
+};
+
+void read_bytes(png_structp png, png_bytep out, png_size_t count) {
+  auto* decoding = static_cast<Decoding*>(png_get_io_ptr(png));
+  if (count > decoding->size - decoding->position) png_error(png, "the file ends inside a chunk");
+  std::memcpy(out, decoding->bytes + decoding->position, count);
+  decoding->position += count;
+}
+
+void on_error(png_structp png, png_const_charp message) {
+  auto* decoding = static_cast<Decoding*>(png_get_error_ptr(png));
+  std::snprintf(decoding->error, sizeof decoding->error, "%s", message);
+  png_longjmp(png, 1);
+}
+
+// Warnings concern ancillary chunks (an unknown one, a wrong sRGB profile); the samples are
+// good, and libpng would print each on standard error.
+void on_warning(png_structp, png_const_charp) {}
+
+// PASS 1: the header. Returns false (with decoding->error set) when libpng fails.
+bool read_header(png_structp png, png_infop info, png_uint_32* width, png_uint_32* height,
+                 int* bit_depth) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_read_info(png, info);
+  int color_type = 0;
+  png_get_IHDR(png, info, width, height, bit_depth, &color_type, nullptr, nullptr, nullptr);
+  if (*bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);  // as OpenCV does
+  if (*bit_depth == 16) {
+    const std::uint16_t one = 1;
+    unsigned char first;
+    std::memcpy(&first, &one, 1);
+    if (first == 1) png_set_swap(png);  // PNG stores 16-bit samples big-endian
+  }
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  return true;
+}
+
+// PASS 2: the samples, into rows set up by the caller. Returns false when libpng fails.
+bool read_rows(png_structp png, png_infop info, png_bytepp rows) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_read_image(png, rows);
+  png_read_end(png, info);
+  return true;
+}
+
+}  // namespace
+
+bool is_plain_grey_png(const unsigned char* bytes, std::size_t size) {
+  if (size < 8 + 25 || std::memcmp(bytes, kSignature, 8) != 0) return false;
+  if (std::memcmp(bytes + 12, "IHDR", 4) != 0 || big_endian_32(bytes + 8) != 13) return false;
+  if (bytes[8 + 8 + 9] != 0) return false;  // colour type: 0 is grey without alpha
+  // A tRNS chunk, which makes one grey value transparent, comes before the first IDAT.
+  std::size_t at = 8;
+  while (at + 8 <= size) {
+    const std::uint32_t length = big_endian_32(bytes + at);
+    if (std::memcmp(bytes + at + 4, "tRNS", 4) == 0) return false;
+    if (std::memcmp(bytes + at + 4, "IDAT", 4) == 0) return true;
+    if (length > size - at - 8) return true;  // cut short: libpng says so
+    at += std::size_t{length} + 12;
+  }
+  return true;
+}
+
+void decode_png_slice(const std::string& path, const unsigned char* bytes, std::size_t size,
+                      const PngDestination& destination) {
+  Decoding decoding{bytes, size, 0, ""};
+  png_structp png =
+      png_create_read_struct(PNG_LIBPNG_VER_STRING, &decoding, &on_error, &on_warning);
+  png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+  if (info == nullptr) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    throw Error(path, "cannot decode PNG: libpng has no memory for its state");
+  }
+  // libpng's own limits (1,000,000 pixels a side by default) are lifted: the header was already
+  // checked against mvox's (image_header.h), and a slice may be wider than libpng assumes.
+  png_set_user_limits(png, 0x7fffffff, 0x7fffffff);
+  png_set_read_fn(png, &decoding, &read_bytes);
+
+  struct Cleanup {
+    png_structp* png;
+    png_infop* info;
+    ~Cleanup() { png_destroy_read_struct(png, info, nullptr); }
+  } cleanup{&png, &info};
+
+  png_uint_32 width = 0, height = 0;
+  int bit_depth = 0;
+  if (!read_header(png, info, &width, &height, &bit_depth))
+    throw Error(path, std::string("cannot decode PNG: ") + decoding.error);
+  const SampleType type = bit_depth == 16 ? SampleType::u16 : SampleType::u8;
+  const std::size_t row_bytes = std::size_t{width} * sample_bytes(type);
+  if (png_get_rowbytes(png, info) != row_bytes)
+    throw Error(path, "cannot decode PNG: rows of " + std::to_string(png_get_rowbytes(png, info)) +
+                          " bytes, expected " + std::to_string(row_bytes));
+  unsigned char* samples = destination(width, height, type);
+  std::vector<png_bytep> rows(height);
+  for (png_uint_32 y = 0; y < height; ++y) rows[y] = samples + y * row_bytes;
+  if (!read_rows(png, info, rows.data()))
+    throw Error(path, std::string("cannot decode PNG: ") + decoding.error);
+}
+
+}  // namespace mvox

@@ -1,0 +1,36 @@
+#pragma once
+// Decodes grey PNG slices with libpng directly, so that a PNG stack (what scanners and pipelines
+// export most) never loads OpenCV: OpenCV's image codecs cost a run ~140 ms and ~50 MiB before
+// the first slice (modules/image_codecs.h).
+//
+// It gives exactly the samples OpenCV's cv::imdecode(IMREAD_ANYDEPTH | IMREAD_ANYCOLOR) gives
+// for the same file (tests/host/png_slice_decoder_test.cpp compares them): 8- and 16-bit grey
+// as they are (16-bit in native byte order), 1-, 2- and 4-bit grey scaled to 8 bits, interlaced
+// or not. Other PNGs (colour, palette, grey with alpha or a transparent colour) are left to
+// OpenCV, which decides how to read or refuse them as it always did.
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "mvox/slice.h"
+
+namespace mvox {
+
+// Where a decoded slice goes: the address of width * height samples of `type` (u8 or u16),
+// rows packed. Called once, after the header is read. May throw.
+using PngDestination =
+    std::function<unsigned char*(std::uint32_t width, std::uint32_t height, SampleType type)>;
+
+// True when `bytes` (`size` bytes) are a PNG this decoder reads: the PNG signature, an IHDR of
+// colour type 0 (grey) and no tRNS chunk before the image data. Reads only chunk headers.
+bool is_plain_grey_png(const unsigned char* bytes, std::size_t size);
+
+// Decodes the grey PNG `bytes` (`size` bytes), read from `path`, into `destination`.
+// Precondition: is_plain_grey_png(bytes, size). Throws mvox::Error(path, "cannot decode PNG:
+// " + libpng's reason) when libpng finds an error; libpng's warnings (an unknown or damaged
+// ancillary chunk) do not stop it, and nothing is written on standard error.
+void decode_png_slice(const std::string& path, const unsigned char* bytes, std::size_t size,
+                      const PngDestination& destination);
+
+}  // namespace mvox
