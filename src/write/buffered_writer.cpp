@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+
 #include <cerrno>
 
 namespace mvox {
@@ -27,6 +29,46 @@ int BufferedWriter::write_slow(const void* data, std::size_t size) {
   // A block at least as large as the buffer gains nothing from a copy.
   if (const int error = write_fully(fd_, data, size)) return error;
   total_ += size;
+  return 0;
+}
+
+int BufferedWriter::append_file(int from_fd, std::uint64_t size, bool* short_source) {
+  *short_source = false;
+  if (const int error = flush()) return error;
+  loff_t from = 0;
+  bool kernel_copies = true;
+  while (size > 0) {
+    const std::size_t want =
+        static_cast<std::size_t>(std::min<std::uint64_t>(size, std::uint64_t{1} << 30));
+    ssize_t got = -1;
+    if (kernel_copies) {
+      got = ::copy_file_range(from_fd, &from, fd_, nullptr, want, 0);
+      if (got < 0 && errno == EINTR) continue;
+      // Another file system, a pipe or device as the target, an old kernel: copy it ourselves.
+      if (got < 0 && (errno == EXDEV || errno == EINVAL || errno == ENOSYS ||
+                      errno == EOPNOTSUPP || errno == EBADF)) {
+        kernel_copies = false;
+        continue;
+      }
+      if (got < 0) return errno;
+    } else {
+      const std::size_t chunk = std::min(want, kBufferBytes);
+      got = ::pread(from_fd, buffer_.get(), chunk, from);
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) return errno;
+      if (got > 0) {
+        if (const int error = write_fully(fd_, buffer_.get(), static_cast<std::size_t>(got)))
+          return error;
+        from += got;
+      }
+    }
+    if (got == 0) {
+      *short_source = true;
+      return 0;
+    }
+    size -= static_cast<std::uint64_t>(got);
+    total_ += static_cast<std::uint64_t>(got);
+  }
   return 0;
 }
 

@@ -32,8 +32,30 @@ class BufferedWriter {
     return write_slow(data, size);
   }
 
+  // Room for up to `size` bytes (at most kBufferBytes) in the buffer, flushing it first when it
+  // has less: the caller formats records there directly, then commits what it used. Returns
+  // nullptr with *error set when the flush fails.
+  char* reserve(std::size_t size, int* error) {
+    if (size > kBufferBytes - used_) {
+      *error = flush();
+      if (*error != 0) return nullptr;
+    }
+    return buffer_.get() + used_;
+  }
+  // Counts `size` bytes written at reserve()'s address as appended.
+  void commit(std::size_t size) {
+    used_ += size;
+    total_ += size;
+  }
+
   // Hands the buffered bytes to the descriptor. Returns 0 or an errno value.
   int flush();
+
+  // Appends `size` bytes of the file `from_fd` from offset 0, copied by the kernel
+  // (copy_file_range: no copy through this process, and none at all on file systems that share
+  // blocks), or through the buffer where the kernel cannot. Flushes first. Returns 0 or an errno
+  // value; *short_source is set when `from_fd` holds fewer bytes.
+  int append_file(int from_fd, std::uint64_t size, bool* short_source);
 
   // Bytes appended so far, buffered or not.
   std::uint64_t bytes_written() const { return total_; }

@@ -272,6 +272,12 @@ void OutputFile::commit() {
   publish();
 }
 
+void OutputFile::append_file(int fd, std::uint64_t size, const std::string& what) {
+  bool short_source = false;
+  if (const int error = writer_.append_file(fd, size, &short_source)) fail_write(error);
+  if (short_source) throw Error(what, "cannot read temporary file: it is shorter than written");
+}
+
 std::string OutputFile::scratch_directory() const {
   if (!temp_path_.empty()) {
     const std::string directory = directory_part(target_path_);

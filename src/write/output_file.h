@@ -47,6 +47,21 @@ class OutputFile {
     if (const int error = writer_.write(data, size)) fail_write(error);
   }
 
+  // Room for `size` bytes (at most BufferedWriter::kBufferBytes) to format into, then
+  // commit(used) appends the `used` bytes written there. Throws mvox::Error.
+  char* reserve(std::size_t size) {
+    int error = 0;
+    char* room = writer_.reserve(size, &error);
+    if (room == nullptr) fail_write(error);
+    return room;
+  }
+  void commit(std::size_t used) { writer_.commit(used); }
+
+  // Appends the first `size` bytes of the file `fd` (a scratch file), copied by the kernel
+  // where it can (BufferedWriter::append_file). Throws mvox::Error naming `what` when `fd` is
+  // shorter, or naming the target when writing fails.
+  void append_file(int fd, std::uint64_t size, const std::string& what);
+
   // Replaces bytes [offset, offset + size) already written, e.g. a header whose counts are
   // known only at the end. Requires can_overwrite() and offset + size <= bytes_written().
   void overwrite(std::uint64_t offset, const void* data, std::size_t size);

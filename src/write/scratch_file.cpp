@@ -42,23 +42,7 @@ void ScratchFile::fail_write(int error) {
 
 void ScratchFile::copy_to(OutputFile& out) {
   if (const int error = writer_.flush()) fail_write(error);
-  const int fd = writer_.fd();
-  if (::lseek(fd, 0, SEEK_SET) != 0) {
-    throw Error(subject_, "cannot read temporary file: " + errno_text(errno));
-  }
-  // The write buffer is empty after flush(): reuse it as the copy buffer.
-  char* chunk = writer_.storage();
-  std::uint64_t left = writer_.bytes_written();
-  while (left > 0) {
-    const std::size_t want =
-        static_cast<std::size_t>(std::min<std::uint64_t>(left, BufferedWriter::kBufferBytes));
-    const ssize_t got = ::read(fd, chunk, want);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) throw Error(subject_, "cannot read temporary file: " + errno_text(errno));
-    if (got == 0) throw Error(subject_, "cannot read temporary file: it is shorter than written");
-    out.write(chunk, static_cast<std::size_t>(got));
-    left -= static_cast<std::uint64_t>(got);
-  }
+  out.append_file(writer_.fd(), writer_.bytes_written(), subject_);
 }
 
 }  // namespace mvox

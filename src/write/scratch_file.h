@@ -26,6 +26,14 @@ class ScratchFile {
   void write(const void* data, std::size_t size) {
     if (const int error = writer_.write(data, size)) fail_write(error);
   }
+  // As OutputFile::reserve() and commit(): records formatted in place.
+  char* reserve(std::size_t size) {
+    int error = 0;
+    char* room = writer_.reserve(size, &error);
+    if (room == nullptr) fail_write(error);
+    return room;
+  }
+  void commit(std::size_t used) { writer_.commit(used); }
 
   std::uint64_t bytes_written() const { return writer_.bytes_written(); }
 

@@ -1,5 +1,6 @@
 #include "write/mesh/ply_writer.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <limits>
@@ -64,14 +65,11 @@ template <class Sink>
 void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
                                   std::size_t vertex_count) {
   const int fields = options().normals ? 6 : 3;
-  for (std::size_t i = 0; i < vertex_count; ++i) {
-    const WorldVertex& vertex = vertices[i];
-    float written[6];
-    for (int axis = 0; axis < 3; ++axis) {
-      written[axis] = vertex.position[axis];
-      written[3 + axis] = vertex.normal[axis];
-    }
-    if (format_ == PlyFormat::ascii) {
+  if (format_ == PlyFormat::ascii) {
+    for (std::size_t i = 0; i < vertex_count; ++i) {
+      const WorldVertex& vertex = vertices[i];
+      const float written[6] = {vertex.position[0], vertex.position[1], vertex.position[2],
+                                vertex.normal[0],   vertex.normal[1],   vertex.normal[2]};
       // Shortest representation that reads back to the same float.
       char line[128];
       char* end = line;
@@ -80,22 +78,33 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
         *end++ = field + 1 < fields ? ' ' : '\n';
       }
       sink.write(line, static_cast<std::size_t>(end - line));
-    } else {
-      unsigned char record[24];
-      unsigned char* end = record;
-      for (int field = 0; field < fields; ++field) end = store_le_float(end, written[field]);
-      sink.write(record, static_cast<std::size_t>(end - record));
     }
+    return;
+  }
+  // Binary records are formatted straight into the file's buffer, a run at a time: a write
+  // call per vertex cost more than the formatting.
+  const std::size_t record_bytes = 4 * static_cast<std::size_t>(fields);
+  const std::size_t per_run = BufferedWriter::kBufferBytes / record_bytes;
+  for (std::size_t first = 0; first < vertex_count; first += per_run) {
+    const std::size_t count = std::min(per_run, vertex_count - first);
+    auto* out = reinterpret_cast<unsigned char*>(sink.reserve(count * record_bytes));
+    for (std::size_t i = first; i < first + count; ++i) {
+      const WorldVertex& vertex = vertices[i];
+      for (int axis = 0; axis < 3; ++axis) out = store_le_float(out, vertex.position[axis]);
+      if (fields == 6)
+        for (int axis = 0; axis < 3; ++axis) out = store_le_float(out, vertex.normal[axis]);
+    }
+    sink.commit(count * record_bytes);
   }
 }
 
 void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
-  for (std::size_t i = 0; i < face_count; ++i) {
-    const Polygon& face = faces[i];
-    const int count = face.vertex_count;
-    // MeshWriter checked every face; checked again so the record below provably fits.
-    if (count > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
-    if (format_ == PlyFormat::ascii) {
+  if (format_ == PlyFormat::ascii) {
+    for (std::size_t i = 0; i < face_count; ++i) {
+      const Polygon& face = faces[i];
+      const int count = face.vertex_count;
+      // MeshWriter checked every face; checked again so the line below provably fits.
+      if (count > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
       // "7" and seven indices of at most 10 digits, each after a space, and the newline.
       char line[1 + kMaxPolygonVertices * 11 + 1];
       char* end = line;
@@ -106,13 +115,25 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
       }
       *end++ = '\n';
       faces_.write(line, static_cast<std::size_t>(end - line));
-    } else {
-      unsigned char record[1 + 4 * kMaxPolygonVertices];
-      unsigned char* end = record;
-      *end++ = static_cast<unsigned char>(count);
-      for (int k = 0; k < count; ++k) end = store_le32(end, face.vertices[k]);
-      faces_.write(record, static_cast<std::size_t>(end - record));
     }
+    return;
+  }
+  // A count byte and the indices, formatted in place a run at a time (as the vertices).
+  constexpr std::size_t kLargestRecord = 1 + 4 * kMaxPolygonVertices;
+  constexpr std::size_t kPerRun = BufferedWriter::kBufferBytes / kLargestRecord;
+  for (std::size_t first = 0; first < face_count; first += kPerRun) {
+    const std::size_t count = std::min(kPerRun, face_count - first);
+    auto* const start = reinterpret_cast<unsigned char*>(faces_.reserve(count * kLargestRecord));
+    unsigned char* out = start;
+    for (std::size_t i = first; i < first + count; ++i) {
+      const Polygon& face = faces[i];
+      const int corners = face.vertex_count;
+      // MeshWriter checked every face; checked again so the record provably fits.
+      if (corners > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
+      *out++ = static_cast<unsigned char>(corners);
+      for (int k = 0; k < corners; ++k) out = store_le32(out, face.vertices[k]);
+    }
+    faces_.commit(static_cast<std::size_t>(out - start));
   }
 }
 

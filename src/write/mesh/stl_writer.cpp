@@ -2,6 +2,7 @@
 
 #include <strings.h>  // strncasecmp
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -73,21 +74,25 @@ void StlWriter::write_faces(const Polygon* faces, const FacePositions* positions
 template <class Sink>
 void StlWriter::write_triangles_to(Sink& sink, const Polygon* faces, const FacePositions* positions,
                                    std::size_t face_count) {
-  for (std::size_t i = 0; i < face_count; ++i) {
-    if (faces[i].vertex_count != 3)
-      throw Error(subject(), "internal error: an STL face with " +
-                                 std::to_string(faces[i].vertex_count) + " vertices");
-    const float(*p)[3] = positions[i].xyz;
-    unsigned char record[kTriangleBytes];
-    unsigned char* end = record;
-    float normal[3];
-    face_normal(p, normal);
-    for (float value : normal) end = store_le_float(end, value);
-    for (int k = 0; k < 3; ++k)
-      for (int axis = 0; axis < 3; ++axis) end = store_le_float(end, p[k][axis]);
-    *end++ = 0;  // attribute byte count: 0, as nearly every reader expects
-    *end++ = 0;
-    sink.write(record, sizeof record);
+  // Records are formatted straight into the file's buffer, a run at a time.
+  constexpr std::size_t kPerRun = BufferedWriter::kBufferBytes / kTriangleBytes;
+  for (std::size_t first = 0; first < face_count; first += kPerRun) {
+    const std::size_t count = std::min(kPerRun, face_count - first);
+    auto* end = reinterpret_cast<unsigned char*>(sink.reserve(count * kTriangleBytes));
+    for (std::size_t i = first; i < first + count; ++i) {
+      if (faces[i].vertex_count != 3)
+        throw Error(subject(), "internal error: an STL face with " +
+                                   std::to_string(faces[i].vertex_count) + " vertices");
+      const float(*p)[3] = positions[i].xyz;
+      float normal[3];
+      face_normal(p, normal);
+      for (float value : normal) end = store_le_float(end, value);
+      for (int k = 0; k < 3; ++k)
+        for (int axis = 0; axis < 3; ++axis) end = store_le_float(end, p[k][axis]);
+      *end++ = 0;  // attribute byte count: 0, as nearly every reader expects
+      *end++ = 0;
+    }
+    sink.commit(count * kTriangleBytes);
   }
 }
 
