@@ -127,12 +127,21 @@ CPUs with AVX2, chosen at start-up, by two lane permutations of the running indi
   echo
   echo "## Memory does not grow with the number of slices"
   echo
-  echo "\`bench/memory_vs_slices.sh build/src/mvox 3\`: \`mvox extract\` on random-blob phantom stacks"
-  echo "(\`mvox phantom blobs\`) with the same slice size. *Peak resident memory* is the whole"
-  echo "process (\`/usr/bin/time\`), about 48 MiB of which are the shared libraries Debian's OpenCV"
-  echo "loads; *the job's own share* is the peak minus the resident size when the job started."
+  echo "\`bench/memory_vs_slices.sh build/src/mvox 3 256 1000 6000\`: \`mvox extract\` on random-blob"
+  echo "phantom stacks (\`mvox phantom blobs\`, PNG slices) with the same slice size. *Peak resident"
+  echo "memory* is the whole process (\`/usr/bin/time\`); *the job's own share* is the peak minus the"
+  echo "resident size when the job started, after the input files were listed and sorted: that list"
+  echo "(about 200 bytes a file) is what grows with a stack's length."
   echo
-  "$root/bench/memory_vs_slices.sh" "$root/build/src/mvox" 3
+  "$root/bench/memory_vs_slices.sh" "$root/build/src/mvox" 3 256 1000 6000
+  echo
+  echo "## Start-up and memory of the whole process"
+  echo
+  echo "\`bench/startup_and_memory.sh build/src/mvox\`: whole \`mvox\` processes beside C++ hello-worlds,"
+  echo "and hello-worlds linked to the libraries mvox loads only when an input needs them (OpenCV's"
+  echo "image codecs, GDCM). Wall time by hyperfine (no shell), peak resident memory by /usr/bin/time."
+  echo
+  "$root/bench/startup_and_memory.sh" "$root/build/src/mvox" "" 10
   echo
   echo "## Reading these figures"
   echo
