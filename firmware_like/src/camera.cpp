@@ -30,7 +30,8 @@ Camera fit_camera(const glm::vec3& box_min, const glm::vec3& box_max, const View
   camera.height = height;
   camera.world_to_view = view_rotation(view);
   const glm::vec3 centre = 0.5f * (box_min + box_max);
-  const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1u));
+  const float aspect =
+      static_cast<float>(width) / static_cast<float>(std::max<std::uint32_t>(height, 1));
   const float fill = std::max(0.05f, 1.0f - 2.0f * view.margin);  // image fraction to use
 
   glm::mat4 view_matrix(camera.world_to_view);  // rotation about the box centre
