@@ -432,8 +432,8 @@ tour "gzip NRRD: data short, trailer claims less" \
 tour "gzip NRRD: data complete, trailer claims less" \
   "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 10\nencoding: gzip\n\n'; gzip_with_trailer 1200 0; } > t.nrrd" \
   "mvox extract t.nrrd -t 1 $outputs"
-tour "out of memory mid-run (ulimit -v, --max-memory none)" "truncate -s 96000000 large.raw" \
-  "(ulimit -v 300000; mvox extract large.raw --raw 4000x4000x3:u16le -t 1 --max-memory none $outputs)"
+tour "out of memory mid-run (ulimit -v, --max-memory none)" "truncate -s 384000000 large.raw" \
+  "(ulimit -v 300000; mvox extract large.raw --raw 8000x8000x3:u16le -t 1 --max-memory none $outputs)"
 tour "TIFF stack: a page of another size" "python3 $work/make_tiff.py pages.tif sizes 12x10 12x10 14x10" \
   "mvox extract pages.tif -t 10 $outputs"
 tour "TIFF stack: deflate strip failing its checksum" \
