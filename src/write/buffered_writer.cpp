@@ -3,31 +3,121 @@
 #include <unistd.h>
 
 #include <algorithm>
-
 #include <cerrno>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <utility>
 
 namespace mvox {
 
+// The writing thread: one buffer at a time, handed over under the mutex.
+struct BufferedWriter::Background {
+  std::mutex mutex;
+  std::condition_variable changed;
+  const char* data = nullptr;
+  std::size_t size = 0;
+  int fd = -1;
+  bool busy = false;  // a buffer is handed over and not yet written
+  bool stop = false;
+  int error = 0;  // of the last write, until the owner takes it
+  std::thread thread;
+
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex);
+    for (;;) {
+      changed.wait(lock, [&] { return busy || stop; });
+      if (!busy) return;
+      lock.unlock();
+      const int result = write_fully(fd, data, size);
+      lock.lock();
+      if (result != 0 && error == 0) error = result;
+      busy = false;
+      changed.notify_all();
+    }
+  }
+};
+
 BufferedWriter::BufferedWriter() : buffer_(new char[kBufferBytes]) {}
 
+BufferedWriter::~BufferedWriter() {
+  if (!background_) return;
+  {
+    std::unique_lock<std::mutex> lock(background_->mutex);
+    background_->changed.wait(lock, [&] { return !background_->busy; });
+    background_->stop = true;
+    background_->changed.notify_all();
+  }
+  background_->thread.join();
+}
+
+void BufferedWriter::set_fd(int fd) {
+  // A background write still uses the old descriptor: it must end before that is closed.
+  if (background_) background_->error = wait_for_background();
+  fd_ = fd;
+}
+
+int BufferedWriter::wait_for_background() {
+  if (!background_) return 0;
+  std::unique_lock<std::mutex> lock(background_->mutex);
+  background_->changed.wait(lock, [&] { return !background_->busy; });
+  return std::exchange(background_->error, 0);
+}
+
+int BufferedWriter::hand_off() {
+  if (used_ == 0) return wait_for_background();
+  if (!background_) {
+    try {
+      auto background = std::make_unique<Background>();
+      spare_.reset(new char[kBufferBytes]);
+      Background* started = background.get();
+      background->thread = std::thread([started] { started->run(); });
+      background_ = std::move(background);
+    } catch (...) {
+      // No thread or no memory for a second buffer: write as before, synchronously.
+      spare_.reset();
+      const int error = write_fully(fd_, buffer_.get(), used_);
+      used_ = 0;
+      return error;
+    }
+  }
+  if (const int error = wait_for_background()) {
+    used_ = 0;  // the file is dead: the owner reports the error and stops writing it
+    return error;
+  }
+  std::swap(buffer_, spare_);
+  {
+    std::lock_guard<std::mutex> lock(background_->mutex);
+    background_->data = spare_.get();
+    background_->size = used_;
+    background_->fd = fd_;
+    background_->busy = true;
+  }
+  background_->changed.notify_all();
+  used_ = 0;
+  return 0;
+}
+
 int BufferedWriter::flush() {
-  if (used_ == 0) return 0;
-  const int error = write_fully(fd_, buffer_.get(), used_);
+  int error = wait_for_background();
+  if (used_ > 0 && error == 0) error = write_fully(fd_, buffer_.get(), used_);
   // Drop the bytes even after an error: the owner reports it and stops writing this file.
   used_ = 0;
   return error;
 }
 
 int BufferedWriter::write_slow(const void* data, std::size_t size) {
-  if (const int error = flush()) return error;
-  if (size < kBufferBytes) {
-    std::memcpy(buffer_.get(), data, size);
-    used_ = size;
+  if (size >= kBufferBytes) {
+    // A block at least as large as the buffer gains nothing from a copy; written in order,
+    // after everything before it.
+    if (const int error = flush()) return error;
+    if (const int error = write_fully(fd_, data, size)) return error;
     total_ += size;
     return 0;
   }
-  // A block at least as large as the buffer gains nothing from a copy.
-  if (const int error = write_fully(fd_, data, size)) return error;
+  if (const int error = hand_off()) return error;
+  std::memcpy(buffer_.get(), data, size);
+  used_ = size;
   total_ += size;
   return 0;
 }
@@ -45,8 +135,8 @@ int BufferedWriter::append_file(int from_fd, std::uint64_t size, bool* short_sou
       got = ::copy_file_range(from_fd, &from, fd_, nullptr, want, 0);
       if (got < 0 && errno == EINTR) continue;
       // Another file system, a pipe or device as the target, an old kernel: copy it ourselves.
-      if (got < 0 && (errno == EXDEV || errno == EINVAL || errno == ENOSYS ||
-                      errno == EOPNOTSUPP || errno == EBADF)) {
+      if (got < 0 && (errno == EXDEV || errno == EINVAL || errno == ENOSYS || errno == EOPNOTSUPP ||
+                      errno == EBADF)) {
         kernel_copies = false;
         continue;
       }

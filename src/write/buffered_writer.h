@@ -10,14 +10,24 @@ namespace mvox {
 // Collects small writes in one large buffer and hands them to write(2) in big blocks.
 // Reports failures as errno values instead of throwing, so that each owner can name its own
 // file in the Error it throws. Does not own the descriptor.
+//
+// From the second full buffer on, full buffers are written by a thread of its own while the
+// caller fills the other buffer: the kernel's copy of the bytes into the page cache, as long as
+// formatting them, then overlaps the caller's work (the engine's extraction) instead of adding
+// to it. An output under one buffer never starts the thread. An error of a background write is
+// returned by the next call that writes or flushes. Memory: two buffers once the thread runs.
 class BufferedWriter {
  public:
   // Large enough that write(2) calls cost nothing next to formatting; allocated once.
   static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
 
   BufferedWriter();
+  ~BufferedWriter();  // waits for a background write in progress (its bytes are dropped)
+  BufferedWriter(const BufferedWriter&) = delete;
+  BufferedWriter& operator=(const BufferedWriter&) = delete;
 
-  void set_fd(int fd) { fd_ = fd; }
+  // Waits for a background write in progress first: the descriptor may then be closed.
+  void set_fd(int fd);
   int fd() const { return fd_; }
 
   // Appends `size` bytes. Returns 0, or the errno of a failed write(2).
@@ -37,7 +47,7 @@ class BufferedWriter {
   // nullptr with *error set when the flush fails.
   char* reserve(std::size_t size, int* error) {
     if (size > kBufferBytes - used_) {
-      *error = flush();
+      *error = hand_off();
       if (*error != 0) return nullptr;
     }
     return buffer_.get() + used_;
@@ -48,7 +58,8 @@ class BufferedWriter {
     total_ += size;
   }
 
-  // Hands the buffered bytes to the descriptor. Returns 0 or an errno value.
+  // Hands the buffered bytes to the descriptor, and waits for a background write: every byte
+  // appended is in the descriptor when it returns 0. Returns 0 or an errno value.
   int flush();
 
   // Appends `size` bytes of the file `from_fd` from offset 0, copied by the kernel
@@ -60,13 +71,19 @@ class BufferedWriter {
   // Bytes appended so far, buffered or not.
   std::uint64_t bytes_written() const { return total_; }
 
-  // The buffer's storage, kBufferBytes long, for reuse as scratch space right after flush().
-  char* storage() { return buffer_.get(); }
-
  private:
+  struct Background;
+
   int write_slow(const void* data, std::size_t size);
+  // Gives the full buffer to the writing thread (started at the first call) and takes the
+  // other one; writes synchronously when no thread can be had. Returns 0 or an errno value.
+  int hand_off();
+  // Waits until the writing thread is idle; returns the errno of its last write, or 0.
+  int wait_for_background();
 
   std::unique_ptr<char[]> buffer_;
+  std::unique_ptr<char[]> spare_;           // the other buffer, once the thread runs
+  std::unique_ptr<Background> background_;  // the writing thread, once started
   std::size_t used_ = 0;
   std::uint64_t total_ = 0;
   int fd_ = -1;

@@ -184,8 +184,9 @@ OutputFile::~OutputFile() {
 }
 
 void OutputFile::close_fd() {
-  if (owns_fd_ && writer_.fd() >= 0) ::close(writer_.fd());
-  writer_.set_fd(-1);
+  const int fd = writer_.fd();
+  writer_.set_fd(-1);  // first: it waits for a background write to this descriptor
+  if (owns_fd_ && fd >= 0) ::close(fd);
 }
 
 void OutputFile::fail_write(int error) {

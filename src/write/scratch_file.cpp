@@ -33,7 +33,9 @@ ScratchFile::ScratchFile(const std::string& directory, const std::string& subjec
 }
 
 ScratchFile::~ScratchFile() {
-  if (writer_.fd() >= 0) ::close(writer_.fd());
+  const int fd = writer_.fd();
+  writer_.set_fd(-1);  // first: it waits for a background write to this descriptor
+  if (fd >= 0) ::close(fd);
 }
 
 void ScratchFile::fail_write(int error) {

@@ -1,0 +1,112 @@
+// BufferedWriter (src/write/buffered_writer.h): bytes arrive in the order they were appended
+// whatever mix of small writes, records formatted in place, blocks larger than the buffer and
+// appended files carries them, including once full buffers go to the writing thread; and an
+// error of a background write is returned by a later call, never lost.
+#include "write/buffered_writer.h"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "command_runner.h"
+#include "file_io.h"
+
+namespace mvox {
+namespace {
+
+constexpr std::size_t kBuffer = BufferedWriter::kBufferBytes;
+
+// Deterministic bytes that differ at every offset, so that a reordered block shows.
+std::vector<unsigned char> pattern(std::size_t size, unsigned seed) {
+  std::mt19937 random(seed);
+  std::vector<unsigned char> bytes(size);
+  for (auto& b : bytes) b = static_cast<unsigned char>(random());
+  return bytes;
+}
+
+TEST(BufferedWriter, EveryWayOfAppendingKeepsTheOrderAcrossBackgroundWrites) {
+  test::ScratchDirectory dir;
+  const std::string path = dir / "out.bin";
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ASSERT_GE(fd, 0);
+  const std::string spooled_path = dir / "spool.bin";
+  const std::vector<unsigned char> spooled = pattern(3 * kBuffer + 17, 9);
+  test::write_bytes(spooled_path, spooled);
+  const int spool = ::open(spooled_path.c_str(), O_RDONLY);
+  ASSERT_GE(spool, 0);
+
+  std::vector<unsigned char> expected;
+  {
+    BufferedWriter writer;
+    writer.set_fd(fd);
+    const std::vector<unsigned char> source = pattern(12 * kBuffer, 1);
+    std::size_t at = 0;
+    std::mt19937 random(2);
+    // Several buffers' worth of each kind, so that the writing thread takes many of them.
+    for (int round = 0; round < 40; ++round) {
+      const int kind = static_cast<int>(random() % 4);
+      if (kind == 0) {  // small writes
+        for (int i = 0; i < 1000; ++i) {
+          const std::size_t size = random() % 29 + 1;
+          ASSERT_EQ(writer.write(source.data() + at, size), 0);
+          expected.insert(expected.end(), source.begin() + at, source.begin() + at + size);
+          at = (at + size) % (source.size() - kBuffer * 2);
+        }
+      } else if (kind == 1) {  // records formatted in place
+        const std::size_t size = random() % kBuffer + 1;
+        int error = 0;
+        char* room = writer.reserve(size, &error);
+        ASSERT_NE(room, nullptr) << error;
+        std::copy(source.begin() + at, source.begin() + at + size, room);
+        writer.commit(size);
+        expected.insert(expected.end(), source.begin() + at, source.begin() + at + size);
+        at = (at + size) % (source.size() - kBuffer * 2);
+      } else if (kind == 2) {  // a block larger than the buffer
+        const std::size_t size = kBuffer + random() % kBuffer;
+        ASSERT_EQ(writer.write(source.data() + at, size), 0);
+        expected.insert(expected.end(), source.begin() + at, source.begin() + at + size);
+        at = (at + size) % (source.size() - kBuffer * 2);
+      } else if (round % 8 == 3) {  // a scratch file appended by the kernel
+        bool short_source = true;
+        ASSERT_EQ(writer.append_file(spool, spooled.size(), &short_source), 0);
+        EXPECT_FALSE(short_source);
+        expected.insert(expected.end(), spooled.begin(), spooled.end());
+      }
+    }
+    ASSERT_EQ(writer.flush(), 0);
+    EXPECT_EQ(writer.bytes_written(), expected.size());
+    writer.set_fd(-1);
+  }
+  ::close(fd);
+  ::close(spool);
+  const std::string written = test::read_bytes(path);
+  ASSERT_EQ(written.size(), expected.size());
+  EXPECT_TRUE(std::equal(expected.begin(), expected.end(),
+                         reinterpret_cast<const unsigned char*>(written.data())))
+      << "the bytes arrived out of order";
+}
+
+TEST(BufferedWriter, ABackgroundWriteErrorIsReturnedByALaterCall) {
+  const int fd = ::open("/dev/full", O_WRONLY);
+  ASSERT_GE(fd, 0);
+  BufferedWriter writer;
+  writer.set_fd(fd);
+  const std::vector<unsigned char> bytes = pattern(kBuffer / 4, 3);
+  int error = 0;
+  // The first full buffers go to the writing thread, which finds the device full.
+  for (int i = 0; i < 64 && error == 0; ++i) error = writer.write(bytes.data(), bytes.size());
+  if (error == 0) error = writer.flush();
+  EXPECT_EQ(error, ENOSPC);
+  writer.set_fd(-1);
+  ::close(fd);
+}
+
+}  // namespace
+}  // namespace mvox
