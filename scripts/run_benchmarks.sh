@@ -7,7 +7,7 @@ runs=${RUNS:-5}
 "$root/scripts/install_bench_deps.sh" >/dev/null  # mvox's own, plus VTK and scikit-image
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_bench_extract \
-  mvox_bench_extract_once mvox_bench_render mvox_bench_paper >/dev/null
+  mvox_bench_extract_once mvox_bench_resample mvox_bench_render mvox_bench_paper >/dev/null
 
 out="$root/docs/benchmarks.md"
 tmp=$(mktemp)
@@ -142,6 +142,14 @@ CPUs with AVX2, chosen at start-up, by two lane permutations of the running indi
   echo "image codecs, GDCM). Wall time by hyperfine (no shell), peak resident memory by /usr/bin/time."
   echo
   "$root/bench/startup_and_memory.sh" "$root/build/src/mvox" "" 10
+  echo
+  echo "## End to end against VTK: a whole mvox process and VTK in a running Python"
+  echo
+  echo "\`/usr/bin/python3 bench/end_to_end_vs_vtk.py --runs $runs\`: read the files, extract, write binary PLY;"
+  echo "mvox as a whole process (start-up included), VTK (vtkFlyingEdges3D, one thread, vtkPLYWriter)"
+  echo "in a Python where VTK is already imported. Ratio: VTK / mvox, median of per-round ratios."
+  echo
+  /usr/bin/python3 "$root/bench/end_to_end_vs_vtk.py" --runs "$runs"
   echo
   echo "## Reading these figures"
   echo
