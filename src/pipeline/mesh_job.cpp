@@ -270,7 +270,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   // All or none: every target is checked before the first rename, and a rename that still
   // fails brings the files already replaced back (publish_together).
   std::vector<OutputFile*> sealed;
-  if (writer) sealed.push_back(&writer->output_file());
+  if (writer) sealed.push_back(writer->output_file());
   if (picture && picture->image_file()) sealed.push_back(picture->image_file());
   if (stats_file) sealed.push_back(&*stats_file);
   publish_together(sealed);

@@ -236,6 +236,8 @@ void MeshWriter::complete() {
   finished_ = true;
 }
 
-void MeshWriter::publish() { output_file().publish(); }
+void MeshWriter::publish() {
+  if (OutputFile* file = output_file()) file->publish();
+}
 
 }  // namespace mvox

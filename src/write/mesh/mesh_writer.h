@@ -85,8 +85,9 @@ class MeshWriter : public PolygonSink {
   const Error* error() const { return error_ ? &*error_ : nullptr; }
   // The output's name in messages: the path, or "standard output".
   virtual const std::string& subject() const = 0;
-  // The file being written, for publishing it together with other outputs (publish_together).
-  virtual OutputFile& output_file() = 0;
+  // The file being written, for publishing it together with other outputs (publish_together);
+  // null for a writer that keeps the mesh in memory (mesh_arrays.h).
+  virtual OutputFile* output_file() = 0;
 
  protected:
   enum class Faces : std::uint8_t { as_polygons, as_triangles };

@@ -23,7 +23,7 @@ class ObjWriter final : public MeshWriter {
   explicit ObjWriter(const std::string& path, const MeshWriterOptions& options = {});
 
   const std::string& subject() const override { return out_.subject(); }
-  OutputFile& output_file() override { return out_; }
+  OutputFile* output_file() override { return &out_; }
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;

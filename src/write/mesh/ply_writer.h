@@ -35,7 +35,7 @@ class PlyWriter final : public MeshWriter {
   explicit PlyWriter(const std::string& path, PlyWriterOptions options = {});
 
   const std::string& subject() const override { return out_.subject(); }
-  OutputFile& output_file() override { return out_; }
+  OutputFile* output_file() override { return &out_; }
 
   // Bytes of the header area for these options (binary and ASCII alike), which is also the
   // offset of the first vertex in a file written to a regular target.

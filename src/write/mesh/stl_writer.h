@@ -33,7 +33,7 @@ class StlWriter final : public MeshWriter {
   explicit StlWriter(const std::string& path, const MeshWriterOptions& options = {});
 
   const std::string& subject() const override { return out_.subject(); }
-  OutputFile& output_file() override { return out_; }
+  OutputFile* output_file() override { return &out_; }
 
   // The 80 header bytes for these options.
   static std::string header(const MeshWriterOptions& options);

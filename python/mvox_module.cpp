@@ -1,0 +1,295 @@
+// The Python module `mvox`: marching voxels on numpy arrays, in process.
+//
+//   mesh = mvox.extract(volume, threshold, spacing=(1, 1, 1), origin=(0, 0, 0),
+//                       method="voxels", triangulate=False, normals=False, copy=False)
+//   ex = mvox.Extractor(width, height, threshold, ...); ex.push(slice2d); ex.finish()
+//
+// The volume reaches the engine without a copy (read/memory/memory_volume_source.h), slice by
+// slice, while the GIL is released; the mesh comes back as numpy arrays that own the vectors
+// the writer filled (no copy either). The mesh is the one `mvox extract -o mesh.ply` writes for
+// the same samples, vertex for vertex (pipeline/array_extraction.h).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "error.h"
+#include "mvox/engine.h"
+#include "mvox/workspace_buffer.h"
+#include "pipeline/array_extraction.h"
+#include "read/memory/memory_volume_source.h"
+#include "write/mesh/mesh_arrays.h"
+
+namespace py = pybind11;
+
+namespace mvox {
+namespace {
+
+// A vector handed to numpy: the array owns it through a capsule, so nothing is copied.
+template <class T>
+py::array_t<T> to_numpy(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
+  auto* owned = new std::vector<T>(std::move(values));
+  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, owned->data(), owner);
+}
+
+// The sample type of a numpy dtype mvox reads, or a TypeError naming what it got.
+SampleType sample_type_of(const py::dtype& dtype, const char* what) {
+  if (dtype.is(py::dtype::of<std::uint8_t>())) return SampleType::u8;
+  if (dtype.is(py::dtype::of<std::uint16_t>())) return SampleType::u16;
+  if (dtype.is(py::dtype::of<std::int16_t>())) return SampleType::i16;
+  if (dtype.is(py::dtype::of<float>())) return SampleType::f32;
+  const std::string name = py::str(py::handle(dtype)).cast<std::string>();
+  throw py::type_error(std::string(what) + " has dtype " + name +
+                       "; mvox reads uint8, uint16, int16 and float32 (native byte order): "
+                       "convert it first, e.g. volume.astype(numpy.float32)");
+}
+
+EngineOptions engine_options(const std::string& method) {
+  EngineOptions options;
+  if (method == "voxels") {
+    options.method = SurfaceMethod::voxels;
+  } else if (method == "cubes") {
+    options.method = SurfaceMethod::cubes;
+  } else {
+    throw py::value_error("method must be \"voxels\" or \"cubes\", got \"" + method + "\"");
+  }
+  return options;
+}
+
+WorldTransform placement(const std::array<double, 3>& spacing,
+                         const std::array<double, 3>& origin) {
+  WorldTransform transform;
+  for (int axis = 0; axis < 3; ++axis) {
+    transform.spacing[axis] = spacing[axis];
+    transform.origin[axis] = origin[axis];
+  }
+  return transform;
+}
+
+py::dict counters_dict(const EngineCounters& counters) {
+  py::dict by_size;
+  for (int size = 3; size <= kMaxPolygonVertices; ++size)
+    by_size[py::int_(size)] = counters.polygons_by_size[size];
+  py::dict result;
+  result["slices"] = counters.slices;
+  result["inner_voxels"] = counters.inner_voxels;
+  result["vertices"] = counters.vertices;
+  result["polygons"] = counters.polygons;
+  result["polygons_by_size"] = by_size;
+  return result;
+}
+
+// What mvox.extract returns.
+struct Mesh {
+  py::array_t<float> vertices;
+  py::array_t<std::int64_t> polygon_offsets;
+  py::array_t<std::int32_t> polygon_indices;
+  py::object faces = py::none();    // (M, 3) when triangulated
+  py::object normals = py::none();  // (N, 3) when asked for
+  py::dict counters;
+};
+
+// Arrays from the writer's vectors; `triangles`: every face has three corners.
+Mesh mesh_from(MeshArrays&& arrays, const EngineCounters& counters, bool triangles) {
+  Mesh mesh;
+  const auto vertex_count = static_cast<py::ssize_t>(arrays.vertex_count());
+  const auto face_count = static_cast<py::ssize_t>(arrays.face_count());
+  mesh.vertices = to_numpy(std::move(arrays.vertices), {vertex_count, 3});
+  if (!arrays.normals.empty())
+    mesh.normals = to_numpy(std::move(arrays.normals), {vertex_count, 3});
+  if (triangles) {
+    // The same indices seen as rows of three: one array shared, no copy.
+    py::array_t<std::int32_t> indices =
+        to_numpy(std::move(arrays.polygon_indices), {face_count * 3});
+    mesh.faces = indices.attr("reshape")(face_count, 3);
+    mesh.polygon_indices = indices;
+  } else {
+    const auto index_count = static_cast<py::ssize_t>(arrays.polygon_indices.size());
+    mesh.polygon_indices = to_numpy(std::move(arrays.polygon_indices), {index_count});
+  }
+  mesh.polygon_offsets = to_numpy(std::move(arrays.polygon_offsets), {face_count + 1});
+  mesh.counters = counters_dict(counters);
+  return mesh;
+}
+
+Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
+             std::array<double, 3> origin, const std::string& method, bool triangulate,
+             bool normals, bool copy) {
+  if (volume.ndim() != 3)
+    throw py::value_error("volume must have 3 dimensions [z, y, x] (slice, row, column), got " +
+                          std::to_string(volume.ndim()));
+  const SampleType type = sample_type_of(volume.dtype(), "volume");
+  for (int axis = 0; axis < 3; ++axis)
+    if (volume.shape(axis) <= 0 || volume.shape(axis) > 0x7fffffff)
+      throw py::value_error("volume has an empty or too large axis: shape " +
+                            py::str(volume.attr("shape")).cast<std::string>());
+  const py::ssize_t item = volume.itemsize();
+  // The engine reads each row's samples side by side; slices and rows may lie anywhere.
+  const bool rows_contiguous =
+      volume.strides(2) == item && volume.strides(1) >= 0 && volume.strides(0) >= 0;
+  if (!rows_contiguous) {
+    if (!copy)
+      throw py::value_error(
+          "volume's rows are not contiguous (strides " +
+          py::str(volume.attr("strides")).cast<std::string>() +
+          "); pass a C-contiguous array, numpy.ascontiguousarray(volume), or copy=True");
+    volume = py::module_::import("numpy").attr("ascontiguousarray")(volume);
+  }
+  VolumeInfo info;
+  info.width = static_cast<std::uint32_t>(volume.shape(2));
+  info.height = static_cast<std::uint32_t>(volume.shape(1));
+  info.depth = static_cast<std::uint32_t>(volume.shape(0));
+  info.type = type;
+  MemoryVolumeSource source(volume.data(), info, volume.strides(0), volume.strides(1));
+  ArrayExtractionOptions options;
+  options.threshold = threshold;
+  options.engine = engine_options(method);
+  options.placement = placement(spacing, origin);
+  options.triangulate = triangulate;
+  options.normals = normals;
+  ArrayExtraction result;
+  {
+    py::gil_scoped_release release;  // the array stays alive: `volume` holds it
+    result = extract_to_arrays(source, options, "mvox.extract");
+  }
+  return mesh_from(std::move(result.mesh), result.counters, triangulate);
+}
+
+// mvox.Extractor: slices pushed one at a time, the mesh returned as it completes. Memory: the
+// engine's workspace (a function of width and height) and one layer's output, whatever the
+// number of slices.
+class Extractor {
+ public:
+  Extractor(std::uint32_t width, std::uint32_t height, double threshold,
+            std::array<double, 3> spacing, std::array<double, 3> origin, const std::string& method,
+            bool triangulate)
+      : width_(width), height_(height), triangulate_(triangulate) {
+    MeshWriterOptions mesh;
+    mesh.transform = placement(spacing, origin);
+    mesh.transform.check("mvox.Extractor");
+    mesh.triangulate = triangulate;
+    writer_ = std::make_unique<MeshArraysWriter>(mesh, "mvox.Extractor");
+    EngineOptions options = engine_options(method);
+    if (writer_->needs_polygon_geometry()) options.polygon_geometry = true;
+    const std::size_t bytes = engine_workspace_bytes(width, height, options);
+    if (bytes == 0)
+      throw py::value_error("slices of " + std::to_string(width) + "x" + std::to_string(height) +
+                            " are empty or too large to extract");
+    workspace_ = std::make_unique<WorkspaceBuffer>(bytes);
+    check(engine_.init(workspace_->data(), workspace_->bytes(), width, height, threshold, options,
+                       writer_.get()));
+  }
+
+  // The vertices and faces the slice completed, with indices counted from the first slice.
+  py::tuple push(py::array slice) {
+    if (finished_) throw py::value_error("push() after finish()");
+    if (slice.ndim() != 2 || slice.shape(0) != height_ || slice.shape(1) != width_)
+      throw py::value_error("slice must be [y, x] of shape (" + std::to_string(height_) + ", " +
+                            std::to_string(width_) + "), got shape " +
+                            py::str(slice.attr("shape")).cast<std::string>());
+    if (slice.strides(1) != slice.itemsize() || slice.strides(0) < 0)
+      throw py::value_error("slice's rows are not contiguous; pass numpy.ascontiguousarray(slice)");
+    SliceView view;
+    view.samples = slice.data();
+    view.width = width_;
+    view.height = height_;
+    view.row_stride_bytes = static_cast<std::size_t>(slice.strides(0));
+    view.type = sample_type_of(slice.dtype(), "slice");
+    Status status;
+    {
+      py::gil_scoped_release release;
+      status = engine_.push_slice(view);
+    }
+    check(status);
+    return take();
+  }
+
+  py::tuple finish() {
+    if (finished_) throw py::value_error("finish() called twice");
+    finished_ = true;
+    check(engine_.finish());
+    writer_->complete();
+    return take();
+  }
+
+  py::dict counters() const { return counters_dict(engine_.counters()); }
+
+ private:
+  void check(Status status) {
+    if (status == Status::ok) return;
+    if (status == Status::sink_refused && writer_->error()) throw *writer_->error();
+    throw Error("mvox.Extractor", std::string("extraction failed: ") + status_message(status));
+  }
+
+  // What the writer holds so far, handed out and forgotten: faces' offsets count from this
+  // chunk's first index, vertex indices from the volume's first vertex.
+  py::tuple take() {
+    MeshArrays chunk = std::move(writer_->arrays());
+    writer_->arrays() = MeshArrays();
+    Mesh mesh = mesh_from(std::move(chunk), engine_.counters(), triangulate_);
+    return py::make_tuple(mesh.vertices, mesh.polygon_offsets, mesh.polygon_indices);
+  }
+
+  std::uint32_t width_, height_;
+  bool triangulate_;
+  bool finished_ = false;
+  std::unique_ptr<MeshArraysWriter> writer_;
+  std::unique_ptr<WorkspaceBuffer> workspace_;
+  Engine engine_;
+};
+
+}  // namespace
+}  // namespace mvox
+
+PYBIND11_MODULE(mvox, m) {
+  using namespace mvox;
+  m.doc() = "mvox: closed surfaces from volume scans by marching voxels, streamed in fixed memory";
+  py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
+
+  py::class_<Mesh>(m, "Mesh", "A surface: vertices, and faces in VTK's compressed-row layout")
+      .def_readonly("vertices", &Mesh::vertices, "(N, 3) float32: x, y, z of each vertex")
+      .def_readonly("polygon_offsets", &Mesh::polygon_offsets,
+                    "(M + 1,) int64: face i is polygon_indices[offsets[i]:offsets[i + 1]]")
+      .def_readonly("polygon_indices", &Mesh::polygon_indices, "int32 vertex indices")
+      .def_readonly("faces", &Mesh::faces, "(M, 3) int32 triangles, when triangulate=True")
+      .def_readonly("normals", &Mesh::normals, "(N, 3) float32 unit normals, when normals=True")
+      .def_readonly("counters", &Mesh::counters, "the engine's counts")
+      .def("__repr__", [](const Mesh& mesh) {
+        return "<mvox.Mesh: " + std::to_string(mesh.vertices.shape(0)) + " vertices, " +
+               std::to_string(mesh.polygon_offsets.shape(0) - 1) + " faces>";
+      });
+
+  m.def("extract", &extract, py::arg("volume"), py::arg("threshold"),
+        py::arg("spacing") = std::array<double, 3>{1, 1, 1},
+        py::arg("origin") = std::array<double, 3>{0, 0, 0}, py::arg("method") = "voxels",
+        py::arg("triangulate") = false, py::arg("normals") = false, py::arg("copy") = false,
+        R"(The closed surface of the voxels >= threshold in `volume`, indexed [z, y, x].
+
+volume: a numpy array of uint8, uint16, int16 or float32, read without a copy; its rows must be
+    contiguous (copy=True copies an array whose rows are not).
+spacing, origin: (x, y, z), as mvox extract's --spacing and --origin: vertex = origin +
+    spacing * (column, row, slice).
+method: "voxels" (marching voxels) or "cubes" (marching cubes).
+Returns an mvox.Mesh, equal to what `mvox extract -o mesh.ply` writes for the same samples.)");
+
+  py::class_<Extractor>(m, "Extractor",
+                        "Slices pushed one at a time; each push returns the mesh it completed")
+      .def(py::init<std::uint32_t, std::uint32_t, double, std::array<double, 3>,
+                    std::array<double, 3>, const std::string&, bool>(),
+           py::arg("width"), py::arg("height"), py::arg("threshold"),
+           py::arg("spacing") = std::array<double, 3>{1, 1, 1},
+           py::arg("origin") = std::array<double, 3>{0, 0, 0}, py::arg("method") = "voxels",
+           py::arg("triangulate") = false)
+      .def("push", &Extractor::push, py::arg("slice"),
+           "Takes a [y, x] slice; returns (vertices, polygon_offsets, polygon_indices) completed "
+           "by it, indices counted from the volume's first vertex")
+      .def("finish", &Extractor::finish, "Ends the volume; returns the rest of the mesh")
+      .def_property_readonly("counters", &Extractor::counters);
+}

@@ -1,0 +1,138 @@
+"""mvox.extract on numpy arrays: the surface `mvox extract` writes for the same samples, bit for
+bit, for every sample type and option; the arrays' layout; refusals of arrays it cannot read."""
+import numpy as np
+import pytest
+
+import mvox
+from conftest import read_ply, run_mvox
+
+RAW_TYPES = {np.uint8: "u8", np.uint16: "u16le", np.int16: "i16le", np.float32: "f32le"}
+
+
+def blobs(dtype, shape=(9, 11, 13), seed=1):
+    """A volume of random blobs: odd, different sizes on every axis, so that a swapped axis or
+    a flip shows; values spread over the type's range."""
+    rng = np.random.default_rng(seed)
+    z, y, x = np.meshgrid(*[np.arange(n) for n in shape], indexing="ij")
+    density = np.zeros(shape)
+    for _ in range(4):
+        c = rng.uniform(0, 1, 3) * np.array(shape)
+        r = rng.uniform(2, 4)
+        density += np.exp(-((z - c[0]) ** 2 + (y - c[1]) ** 2 + (x - c[2]) ** 2) / r**2)
+    if dtype == np.float32:
+        return (density * 100 - 20).astype(np.float32)
+    scale = {np.uint8: 200, np.uint16: 50000, np.int16: 30000}[dtype]
+    offset = -10000 if dtype == np.int16 else 0
+    return (density * scale + offset).clip(np.iinfo(dtype).min, np.iinfo(dtype).max).astype(dtype)
+
+
+def threshold_of(dtype):
+    return {np.uint8: 100, np.uint16: 20000, np.int16: 3000, np.float32: 30.5}[dtype]
+
+
+@pytest.mark.parametrize("dtype", list(RAW_TYPES))
+@pytest.mark.parametrize("options", [
+    {},
+    {"triangulate": True},
+    {"normals": True},
+    {"method": "cubes"},
+    {"spacing": (0.5, 2.0, 1.25), "origin": (-3.0, 4.5, 100.0)},
+])
+def test_the_same_surface_as_the_command_line(tmp_path, mvox_binary, dtype, options):
+    volume = blobs(dtype)
+    (tmp_path / "v.raw").write_bytes(volume.tobytes())
+    depth, height, width = volume.shape
+    arguments = [
+        "extract", str(tmp_path / "v.raw"), "--raw", f"{width}x{height}x{depth}:{RAW_TYPES[dtype]}",
+        "-t", repr(threshold_of(dtype)), "-o", str(tmp_path / "m.ply"), "-q",
+    ]
+    if options.get("triangulate"):
+        arguments.append("--triangulate")
+    if options.get("normals"):
+        arguments.append("--normals")
+    if "method" in options:
+        arguments += ["--method", options["method"]]
+    if "spacing" in options:
+        arguments += ["--spacing", ",".join(map(repr, options["spacing"])),
+                      "--origin", ",".join(map(repr, options["origin"]))]
+    run_mvox(mvox_binary, *arguments)
+    vertices, normals, offsets, indices = read_ply(tmp_path / "m.ply")
+
+    mesh = mvox.extract(volume, threshold_of(dtype), **options)
+    assert mesh.vertices.dtype == np.float32 and mesh.vertices.shape == vertices.shape
+    assert mesh.vertices.tobytes() == vertices.tobytes(), "vertices differ from the CLI's"
+    assert np.array_equal(mesh.polygon_offsets, offsets)
+    assert np.array_equal(mesh.polygon_indices, indices)
+    if options.get("normals"):
+        assert mesh.normals.tobytes() == normals.tobytes()
+    else:
+        assert mesh.normals is None
+    if options.get("triangulate"):
+        assert mesh.faces.shape == (len(offsets) - 1, 3)
+        assert np.array_equal(mesh.faces.ravel(), indices)
+    assert mesh.counters["vertices"] == len(vertices) > 0
+
+
+def test_arrays_follow_vtk_cell_array_layout():
+    mesh = mvox.extract(blobs(np.uint8), 100)
+    offsets, indices = mesh.polygon_offsets, mesh.polygon_indices
+    assert offsets.dtype == np.int64 and indices.dtype == np.int32
+    assert offsets[0] == 0 and offsets[-1] == len(indices)
+    sizes = np.diff(offsets)
+    assert sizes.min() >= 3 and sizes.max() <= 7
+    assert len(sizes) == mesh.counters["polygons"]
+    by_size = {size: int((sizes == size).sum()) for size in range(3, 8)}
+    assert by_size == mesh.counters["polygons_by_size"]
+    assert indices.max() < len(mesh.vertices)
+    # Closed: every edge is used by exactly two faces, once in each direction.
+    edges = {}
+    for face in np.split(indices, offsets[1:-1]):
+        for a, b in zip(face, np.roll(face, -1)):
+            edges[(a, b)] = edges.get((a, b), 0) + 1
+    assert all(count == 1 and edges.get((b, a)) == 1 for (a, b), count in edges.items())
+
+
+def test_triangles_come_as_rows_of_three_sharing_the_indices():
+    mesh = mvox.extract(blobs(np.uint16), 20000, triangulate=True)
+    assert mesh.faces.shape == (len(mesh.polygon_offsets) - 1, 3)
+    assert np.array_equal(np.diff(mesh.polygon_offsets), np.full(len(mesh.faces), 3))
+    assert np.shares_memory(mesh.faces, mesh.polygon_indices)
+
+
+def test_strided_slices_and_rows_are_read_in_place():
+    # A view of every other slice and row of a larger array: rows contiguous, so no copy.
+    big = blobs(np.uint8, shape=(18, 22, 13), seed=3)
+    view = big[::2, ::2, :]
+    assert not view.flags.c_contiguous
+    assert mvox.extract(view, 100).vertices.tobytes() == \
+        mvox.extract(np.ascontiguousarray(view), 100).vertices.tobytes()
+
+
+@pytest.mark.parametrize("bad", [np.int32, np.float64, np.int8, np.uint32, bool])
+def test_other_dtypes_are_a_type_error(bad):
+    with pytest.raises(TypeError, match="mvox reads uint8, uint16, int16 and float32"):
+        mvox.extract(np.zeros((3, 4, 5), dtype=bad), 1)
+
+
+def test_big_endian_samples_are_a_type_error():
+    with pytest.raises(TypeError):
+        mvox.extract(np.zeros((3, 4, 5), dtype=">u2"), 1)
+
+
+def test_rows_that_are_not_contiguous_are_copied_only_when_asked():
+    volume = blobs(np.uint8, shape=(9, 11, 26))[:, :, ::2]
+    with pytest.raises(ValueError, match="rows are not contiguous"):
+        mvox.extract(volume, 100)
+    copied = mvox.extract(volume, 100, copy=True)
+    assert copied.vertices.tobytes() == mvox.extract(np.ascontiguousarray(volume), 100).vertices.tobytes()
+
+
+def test_bad_shapes_methods_and_placements_are_value_errors():
+    with pytest.raises(ValueError, match="3 dimensions"):
+        mvox.extract(np.zeros((4, 5), np.uint8), 1)
+    with pytest.raises(ValueError, match="empty"):
+        mvox.extract(np.zeros((0, 5, 5), np.uint8), 1)
+    with pytest.raises(ValueError, match="method"):
+        mvox.extract(np.zeros((3, 4, 5), np.uint8), 1, method="tetrahedra")
+    with pytest.raises(mvox.Error, match="spacing"):
+        mvox.extract(np.zeros((3, 4, 5), np.uint8), 1, spacing=(0, 1, 1))

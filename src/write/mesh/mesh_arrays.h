@@ -1,0 +1,46 @@
+#pragma once
+// A mesh kept in arrays instead of written to a file: what the PLY writer would write, vertex
+// for vertex and face for face (the same placement, winding and triangulation, MeshWriter's),
+// for callers that hand the mesh on in memory, such as the Python module.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "write/mesh/mesh_writer.h"
+
+namespace mvox {
+
+// Faces in the compressed-row layout of VTK's cell arrays: face i is
+// polygon_indices[polygon_offsets[i] .. polygon_offsets[i + 1]).
+struct MeshArrays {
+  std::vector<float> vertices;  // x, y, z of each vertex, in the world (as PLY's x, y, z)
+  std::vector<float> normals;   // nx, ny, nz of each vertex, when asked for; else empty
+  std::vector<std::int64_t> polygon_offsets{0};  // one more than there are faces
+  std::vector<std::int32_t> polygon_indices;
+
+  std::size_t vertex_count() const { return vertices.size() / 3; }
+  std::size_t face_count() const { return polygon_offsets.size() - 1; }
+};
+
+// A MeshWriter into MeshArrays. Memory grows with the mesh, as the arrays it returns must.
+class MeshArraysWriter : public MeshWriter {
+ public:
+  // `subject` names the mesh in messages (say, "mvox.extract").
+  MeshArraysWriter(const MeshWriterOptions& options, std::string subject);
+
+  // The mesh so far; complete after finish().
+  MeshArrays& arrays() { return arrays_; }
+  const std::string& subject() const override { return subject_; }
+  OutputFile* output_file() override { return nullptr; }
+
+ private:
+  void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
+  void write_faces(const Polygon* faces, const FacePositions* positions,
+                   std::size_t face_count) override;
+  void complete_file() override {}
+
+  std::string subject_;
+  MeshArrays arrays_;
+};
+
+}  // namespace mvox
