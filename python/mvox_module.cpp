@@ -12,9 +12,12 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,8 +26,11 @@
 #include "mvox/engine.h"
 #include "mvox/workspace_buffer.h"
 #include "pipeline/array_extraction.h"
+#include "read/input_format.h"
 #include "read/memory/memory_volume_source.h"
+#include "read/raw/raw_format.h"
 #include "write/mesh/mesh_arrays.h"
+#include "write/mesh/mesh_format.h"
 
 namespace py = pybind11;
 
@@ -245,6 +251,184 @@ class Extractor {
   Engine engine_;
 };
 
+// The numpy dtype of a sample type.
+py::dtype dtype_of(SampleType type) {
+  switch (type) {
+    case SampleType::u8: return py::dtype::of<std::uint8_t>();
+    case SampleType::u16: return py::dtype::of<std::uint16_t>();
+    case SampleType::i16: return py::dtype::of<std::int16_t>();
+    case SampleType::f32: return py::dtype::of<float>();
+  }
+  return py::dtype::of<float>();
+}
+
+// INPUT as the command line takes it: one path, or several (slice files).
+std::vector<std::string> input_paths(const py::object& paths) {
+  if (py::isinstance<py::str>(paths) || py::hasattr(paths, "__fspath__"))
+    return {py::str(py::module_::import("os").attr("fspath")(paths)).cast<std::string>()};
+  std::vector<std::string> list;
+  for (const py::handle item : paths)
+    list.push_back(py::str(py::module_::import("os").attr("fspath")(item)).cast<std::string>());
+  if (list.empty()) throw py::value_error("no input paths");
+  return list;
+}
+
+OpenedInput open_paths(const py::object& paths, const std::optional<std::string>& raw) {
+  InputOptions options;
+  if (raw) options.raw = parse_raw_format(*raw);
+  return open_input(input_paths(paths), options);
+}
+
+// mvox.open: the command line's readers as an iterator of slices, one pass.
+class Volume {
+ public:
+  Volume(const py::object& paths, const std::optional<std::string>& raw)
+      : input_(open_paths(paths, raw)) {}
+
+  const VolumeInfo& info() const { return input_.source->info(); }
+  py::tuple shape() const { return py::make_tuple(info().depth, info().height, info().width); }
+  py::dtype dtype() const { return dtype_of(info().type); }
+  py::tuple spacing() const {
+    return py::make_tuple(info().spacing[0], info().spacing[1], info().spacing[2]);
+  }
+  py::tuple origin() const {
+    return py::make_tuple(info().origin[0], info().origin[1], info().origin[2]);
+  }
+  py::array_t<double> axes() const {
+    py::array_t<double> axes({3, 3});
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) axes.mutable_at(a, b) = info().axes[a][b];
+    return axes;
+  }
+
+  // The next slice, [y, x], copied: the reader's buffer is reused for the one after.
+  py::array next() {
+    SliceView slice;
+    bool more = false;
+    {
+      py::gil_scoped_release release;
+      more = input_.source->next_slice(&slice);
+    }
+    if (!more) throw py::stop_iteration();
+    py::array out(dtype_of(slice.type),
+                  {static_cast<py::ssize_t>(slice.height), static_cast<py::ssize_t>(slice.width)});
+    const std::size_t row_bytes = std::size_t{slice.width} * sample_bytes(slice.type);
+    auto* target = static_cast<unsigned char*>(out.mutable_data());
+    for (std::uint32_t y = 0; y < slice.height; ++y)
+      std::memcpy(target + y * row_bytes,
+                  static_cast<const unsigned char*>(slice.samples) + y * slice.row_stride_bytes,
+                  row_bytes);
+    return out;
+  }
+
+  SliceSource& source() { return *input_.source; }
+
+ private:
+  OpenedInput input_;
+};
+
+Mesh extract_file(const py::object& paths, double threshold, const std::optional<std::string>& raw,
+                  const std::optional<std::array<double, 3>>& spacing,
+                  const std::optional<std::array<double, 3>>& origin, const std::string& method,
+                  bool triangulate, bool normals) {
+  OpenedInput input = open_paths(paths, raw);
+  ArrayExtractionOptions options;
+  options.threshold = threshold;
+  options.engine = engine_options(method);
+  // The input's own placement (DICOM orientation, NRRD space directions...), as the command
+  // line places it; spacing and origin, when given, win as --spacing and --origin do.
+  options.placement = WorldTransform::of_volume(input.source->info());
+  for (int axis = 0; axis < 3; ++axis) {
+    if (spacing) options.placement.spacing[axis] = (*spacing)[axis];
+    if (origin) options.placement.origin[axis] = (*origin)[axis];
+  }
+  options.triangulate = triangulate;
+  options.normals = normals;
+  const std::vector<std::string> list = input_paths(paths);
+  const std::string label = list.size() == 1 ? list.front() : list.front() + " ...";
+  ArrayExtraction result;
+  {
+    py::gil_scoped_release release;
+    result = extract_to_arrays(*input.source, options, label);
+  }
+  return mesh_from(std::move(result.mesh), result.counters, triangulate);
+}
+
+// mvox.write: a Mesh through the command line's writers. Its world vertices go in as vertices of
+// an identity placement (spacing 1, origin 0: exact in double, so the floats come out as they
+// went in) and its faces as polygons, in batches; STL gets each triangle's positions.
+void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<std::string>& format,
+                bool ascii) {
+  std::optional<MeshFormat> chosen =
+      format ? mesh_format_named(*format) : mesh_format_of_path(path);
+  if (!chosen)
+    throw py::value_error("cannot tell the mesh format of '" + path +
+                          "': name it .ply, .stl or .obj, or give format=\"ply\", \"ply-ascii\", "
+                          "\"stl\" or \"obj\"");
+  if (ascii && *chosen == MeshFormat::ply) chosen = MeshFormat::ply_ascii;
+  const auto vertices = mesh.vertices.unchecked<2>();
+  const auto offsets = mesh.polygon_offsets.unchecked<1>();
+  const auto indices = mesh.polygon_indices.unchecked<1>();
+  const py::ssize_t faces = offsets.shape(0) - 1;
+  for (py::ssize_t i = 0; i < faces; ++i) {
+    const std::int64_t size = offsets(i + 1) - offsets(i);
+    if (size < 3 || size > kMaxPolygonVertices)
+      throw py::value_error("face " + std::to_string(i) + " has " + std::to_string(size) +
+                            " vertices; the writers take 3 to 7");
+    if (*chosen == MeshFormat::stl && size != 3)
+      throw py::value_error("STL holds triangles only: extract with triangulate=True");
+  }
+  MeshWriterOptions options;
+  options.comments.push_back("mvox (Python)");
+  std::unique_ptr<MeshWriter> writer = open_mesh_writer(path, *chosen, options);
+  auto refused = [&](Status status) {
+    if (status == Status::ok) return;
+    if (writer->error()) throw *writer->error();
+    throw Error(path, "the writer refused the mesh");
+  };
+  constexpr py::ssize_t kBatch = 4096;
+  std::vector<Vertex> batch;
+  for (py::ssize_t first = 0; first < vertices.shape(0); first += kBatch) {
+    batch.clear();
+    for (py::ssize_t i = first; i < std::min(first + kBatch, vertices.shape(0)); ++i) {
+      Vertex vertex;
+      vertex.x = vertices(i, 0);
+      vertex.y = vertices(i, 1);
+      vertex.z = vertices(i, 2);
+      batch.push_back(vertex);
+    }
+    refused(writer->consume_vertices(batch.data(), batch.size()));
+  }
+  std::vector<Polygon> polygons;
+  std::vector<PolygonGeometry> geometry;
+  for (py::ssize_t first = 0; first < faces; first += kBatch) {
+    polygons.clear();
+    geometry.clear();
+    for (py::ssize_t i = first; i < std::min(first + kBatch, faces); ++i) {
+      Polygon polygon;
+      PolygonGeometry positions;
+      polygon.vertex_count = positions.vertex_count =
+          static_cast<std::uint8_t>(offsets(i + 1) - offsets(i));
+      for (int k = 0; k < polygon.vertex_count; ++k) {
+        const std::int32_t index = indices(offsets(i) + k);
+        if (index < 0 || index >= vertices.shape(0))
+          throw py::value_error("face " + std::to_string(i) + " refers to vertex " +
+                                std::to_string(index) + " of " + std::to_string(vertices.shape(0)));
+        polygon.vertices[k] = static_cast<std::uint32_t>(index);
+        positions.vertices[k].x = vertices(index, 0);
+        positions.vertices[k].y = vertices(index, 1);
+        positions.vertices[k].z = vertices(index, 2);
+      }
+      polygons.push_back(polygon);
+      geometry.push_back(positions);
+    }
+    refused(writer->consume_polygons(polygons.data(), polygons.size()));
+    if (writer->needs_polygon_geometry())
+      refused(writer->consume_polygon_geometry(geometry.data(), geometry.size()));
+  }
+  writer->finish();
+}
+
 }  // namespace
 }  // namespace mvox
 
@@ -292,4 +476,37 @@ Returns an mvox.Mesh, equal to what `mvox extract -o mesh.ply` writes for the sa
            "by it, indices counted from the volume's first vertex")
       .def("finish", &Extractor::finish, "Ends the volume; returns the rest of the mesh")
       .def_property_readonly("counters", &Extractor::counters);
+
+  py::class_<Volume>(m, "Volume", "A volume file or stack, read slice by slice (mvox.open)")
+      .def_property_readonly("shape", &Volume::shape, "(depth, height, width)")
+      .def_property_readonly("dtype", &Volume::dtype)
+      .def_property_readonly("spacing", &Volume::spacing, "(x, y, z) voxel size")
+      .def_property_readonly("origin", &Volume::origin, "position of voxel (0, 0, 0)")
+      .def_property_readonly("axes", &Volume::axes, "rows: world directions of x, y and z")
+      .def("__iter__", [](Volume& volume) -> Volume& { return volume; })
+      .def("__next__", &Volume::next, "the next [y, x] slice (a copy)");
+
+  m.def(
+      "open",
+      [](const py::object& paths, const std::optional<std::string>& raw) {
+        return std::make_unique<Volume>(paths, raw);
+      },
+      py::arg("path_or_paths"), py::arg("raw") = py::none(),
+      R"(Opens what `mvox extract INPUT` reads (an image stack folder or glob, TIFF, DICOM series,
+NRRD, MetaImage, raw slices or a raw volume with raw="WxHxD:TYPE", as --raw), reading headers
+only. Iterating gives the slices, [y, x] numpy arrays, once. Errors raise mvox.Error with the
+command line's message.)");
+
+  m.def("write", &write_mesh, py::arg("mesh"), py::arg("path"), py::arg("format") = py::none(),
+        py::arg("ascii") = false,
+        R"(Writes `mesh` with the command line's writers: binary PLY (ascii=True for ASCII), STL
+(triangles only) or OBJ, by the path's extension or `format`; all or nothing, as mvox extract.)");
+
+  m.def("extract_file", &extract_file, py::arg("path_or_paths"), py::arg("threshold"),
+        py::arg("raw") = py::none(), py::arg("spacing") = py::none(),
+        py::arg("origin") = py::none(), py::arg("method") = "voxels",
+        py::arg("triangulate") = false, py::arg("normals") = false,
+        R"(The surface of a file or stack, streamed slice by slice without building the volume in
+Python: the mesh `mvox extract INPUT -t threshold -o mesh.ply` writes, as an mvox.Mesh, placed
+by the input's own spacing, origin and axes unless spacing or origin are given.)");
 }
