@@ -8,6 +8,8 @@
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#elif defined(__ARM_NEON) && defined(__AARCH64EL__)
+#include <arm_neon.h>
 #endif
 
 #include "bit_rows.h"
@@ -47,8 +49,8 @@ Sample load_sample(const unsigned char* bytes) {
 }
 
 // The definition of a chunk's mask: bit i is set when sample i of the n <= 64 at `samples` is
-// inner. Written so that the compiler may vectorise it; the SSE2 versions below give the same
-// bits for full chunks, faster.
+// inner. Written so that the compiler may vectorise it; the SSE2 and NEON versions below give the
+// same bits for full chunks, faster.
 template <typename Sample, typename Threshold>
 std::uint64_t inner_mask_scalar(const unsigned char* samples, std::uint32_t n,
                                 Threshold threshold) {
@@ -156,9 +158,80 @@ std::uint64_t inner_mask_sse2(const unsigned char* samples, Threshold threshold,
     return inner_mask_16<false>(samples, threshold, counts);
   if constexpr (std::is_same_v<Sample, float>) return inner_mask_f32(samples, threshold, counts);
 }
+
+#elif defined(__ARM_NEON) && defined(__AARCH64EL__)
+// NEON is part of every A64 CPU, so these need no runtime check either. Each compares 16 lanes at
+// a time, and the inner voxels are counted from the mask (A64 has a popcount instruction). As for
+// SSE2, only thresholds inside the sample type's range (in_simd_range). A64's float compares keep
+// denormals (ARMv7's flush them to zero), so they agree with the scalar loop.
+
+// NEON has no movemask: each lane keeps its own bit of a byte (1, 2, 4, ... 128, twice), and
+// three rounds of pairwise adds gather the 64 lanes' bits, in order, into the low 8 bytes
+// (little-endian only, hence __AARCH64EL__).
+inline std::uint64_t lanes_to_bits(const uint8x16_t (&inner_lanes)[4]) {
+  const uint8x16_t bit = {1, 2, 4, 8, 16, 32, 64, 128, 1, 2, 4, 8, 16, 32, 64, 128};
+  const uint8x16_t l01 = vpaddq_u8(vandq_u8(inner_lanes[0], bit), vandq_u8(inner_lanes[1], bit));
+  const uint8x16_t l23 = vpaddq_u8(vandq_u8(inner_lanes[2], bit), vandq_u8(inner_lanes[3], bit));
+  const uint8x16_t l0123 = vpaddq_u8(l01, l23);
+  return vgetq_lane_u64(vreinterpretq_u64_u8(vpaddq_u8(l0123, l0123)), 0);
+}
+
+// Loaded as bytes, so that no pointer to a wider sample is ever misaligned.
+inline uint8x16_t load16(const unsigned char* bytes) { return vld1q_u8(bytes); }
+
+inline std::uint64_t inner_mask_u8(const unsigned char* samples, std::int32_t threshold) {
+  const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
+  uint8x16_t lanes[4];
+  for (int c = 0; c < 4; ++c) lanes[c] = vcgeq_u8(load16(samples + 16 * c), t);
+  return lanes_to_bits(lanes);
+}
+
+// 16-bit: NEON compares unsigned and signed lanes alike, so no bias; each pair of compares is
+// narrowed into 16 bytes.
+template <bool kUnsigned>
+inline std::uint64_t inner_mask_16(const unsigned char* samples, std::int32_t threshold) {
+  auto compare = [&](const unsigned char* at) {
+    if constexpr (kUnsigned)
+      return vmovn_u16(vcgeq_u16(vreinterpretq_u16_u8(load16(at)),
+                                 vdupq_n_u16(static_cast<std::uint16_t>(threshold))));
+    else
+      return vmovn_u16(vcgeq_s16(vreinterpretq_s16_u8(load16(at)),
+                                 vdupq_n_s16(static_cast<std::int16_t>(threshold))));
+  };
+  uint8x16_t lanes[4];
+  for (int c = 0; c < 4; ++c)
+    lanes[c] = vcombine_u8(compare(samples + 32 * c), compare(samples + 32 * c + 16));
+  return lanes_to_bits(lanes);
+}
+
+// f32: an ordered compare, so NaN is never inner, as in the scalar loop. Four compares of four
+// lanes are narrowed into 16 bytes.
+inline std::uint64_t inner_mask_f32(const unsigned char* samples, float threshold) {
+  const float32x4_t t = vdupq_n_f32(threshold);
+  auto compare = [&](const unsigned char* at) {
+    return vmovn_u32(vcgeq_f32(vreinterpretq_f32_u8(load16(at)), t));
+  };
+  uint8x16_t lanes[4];
+  for (int c = 0; c < 4; ++c) {
+    const unsigned char* at = samples + 64 * c;
+    lanes[c] = vcombine_u8(vmovn_u16(vcombine_u16(compare(at), compare(at + 16))),
+                           vmovn_u16(vcombine_u16(compare(at + 32), compare(at + 48))));
+  }
+  return lanes_to_bits(lanes);
+}
+
+template <typename Sample, typename Threshold>
+std::uint64_t inner_mask_neon(const unsigned char* samples, Threshold threshold) {
+  if constexpr (std::is_same_v<Sample, std::uint8_t>) return inner_mask_u8(samples, threshold);
+  if constexpr (std::is_same_v<Sample, std::uint16_t>)
+    return inner_mask_16<true>(samples, threshold);
+  if constexpr (std::is_same_v<Sample, std::int16_t>)
+    return inner_mask_16<false>(samples, threshold);
+  if constexpr (std::is_same_v<Sample, float>) return inner_mask_f32(samples, threshold);
+}
 #endif
 
-// True when the SSE2 compare is exact for this threshold: integer thresholds outside the sample
+// True when the vector compare is exact for this threshold: integer thresholds outside the sample
 // type's range would wrap when narrowed to a lane (every sample is inner below the range, none
 // above it), so those go through the scalar loop.
 template <typename Sample, typename Threshold>
@@ -195,6 +268,11 @@ std::uint64_t classify_row(const unsigned char* samples, std::uint32_t width, Th
         inner += counts.drain();
         counted_chunks = 0;
       }
+    } else
+#elif defined(__ARM_NEON) && defined(__AARCH64EL__)
+    if (simd && n == 64) {
+      mask = inner_mask_neon<Sample>(chunk, threshold);
+      inner += static_cast<std::uint64_t>(set_bit_count(mask));  // A64 has a popcount: cnt
     } else
 #endif
     {

@@ -1,7 +1,8 @@
 // PASS 1 (classify.h) against its definition, sample by sample: a voxel is inner when its sample,
-// compared in double, is >= D. The rows are wide enough for the vectorised 64-sample chunks and
-// end in a partial chunk, the samples start misaligned, and the thresholds sit at and beyond
-// each type's range, where the vector compares would wrap.
+// compared in double, is >= D. The rows are wide enough for the vectorised 64-sample chunks (SSE2
+// on x86-64, NEON on aarch64: whichever the build has) and end in a partial chunk, the samples
+// start misaligned, and the thresholds sit at and beyond each type's range, where the vector
+// compares would wrap.
 #include "classify.h"
 
 #include <gtest/gtest.h>
@@ -59,6 +60,32 @@ void expect_exact_classification(SampleType type, const std::vector<Sample>& val
       EXPECT_EQ(inner, expected_inner) << "width " << width << " threshold " << threshold;
     }
   }
+}
+
+// One inner sample at each position of two full chunks sets its own bit and no other: the vector
+// paths gather their lanes' results into bits in several steps, each of which could reorder them.
+template <typename Sample>
+void expect_each_sample_alone(SampleType type, Sample outer, Sample inner, double threshold) {
+  const std::uint32_t width = 128;
+  const std::uint32_t words = padded_row_words(width);
+  for (std::uint32_t x = 0; x < width; ++x) {
+    std::vector<Sample> samples(width, outer);
+    samples[x] = inner;
+    const SliceView slice{samples.data(), width, 1, width * sizeof(Sample), type};
+    std::vector<std::uint64_t> row(words);
+    std::uint8_t occupied = 0;
+    ASSERT_EQ(classify_slice(slice, make_thresholds(threshold), row.data(), words, &occupied), 1u)
+        << "sample " << x;
+    for (std::uint32_t j = 0; j < words * 64; ++j)
+      ASSERT_EQ(test_bit(row.data(), j), j == x + 1) << "sample " << x << " bit " << j;
+  }
+}
+
+TEST(Classify, EachSampleAloneSetsItsOwnBit) {
+  expect_each_sample_alone<std::uint8_t>(SampleType::u8, 99, 100, 100);
+  expect_each_sample_alone<std::uint16_t>(SampleType::u16, 599, 600, 600);
+  expect_each_sample_alone<std::int16_t>(SampleType::i16, -1025, -1024, -1024);
+  expect_each_sample_alone<float>(SampleType::f32, 0.0f, 0.5f, 0.5);
 }
 
 TEST(Classify, UnsignedBytes) {

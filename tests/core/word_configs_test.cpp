@@ -1,5 +1,6 @@
 // PASS 3's per-word cube configurations (word_configs.h) against their definition: bit c of
-// cube cx's configuration is bit cx of corner word c.
+// cube cx's configuration is bit cx of corner word c. Checks whichever path the build has: SSE2
+// on x86-64, NEON on aarch64, the portable loop elsewhere.
 #include "word_configs.h"
 
 #include <gtest/gtest.h>
