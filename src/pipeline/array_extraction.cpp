@@ -1,6 +1,9 @@
 #include "pipeline/array_extraction.h"
 
 #include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -9,6 +12,73 @@
 #include "pipeline/pipeline.h"
 
 namespace mvox {
+namespace {
+
+// The common case, in a sink of its own: axis-aligned placement that does not mirror, polygons as
+// the engine makes them, no normals. Then MeshWriter's work reduces to origin + spacing * v per
+// vertex (the very expression of WorldTransform::axis_aligned_position, rounded to float as the
+// writers round it) and a copy of each polygon, and its batch copies and per-batch checks, which
+// cost as much as extraction itself here, are left out: the engine's output is trusted as the
+// core's tests check it.
+class AlignedArraysSink : public PolygonSink {
+ public:
+  AlignedArraysSink(const WorldTransform& placement, const std::string& label)
+      : placement_(placement), label_(label) {}
+
+  Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
+    const std::size_t first = mesh_.vertices.size();
+    mesh_.vertices.resize(first + 3 * vertex_count);
+    float* out = mesh_.vertices.data() + first;
+    for (std::size_t i = 0; i < vertex_count; ++i, out += 3) {
+      const Vector3d world =
+          placement_.axis_aligned_position(vertices[i].x, vertices[i].y, vertices[i].z);
+      for (int axis = 0; axis < 3; ++axis) {
+        // Converting a double beyond float's range is undefined behaviour: refuse as the
+        // writers do.
+        if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max())) {
+          error_ = Error(label_, "vertex " + std::to_string(first / 3 + i) +
+                                     " lies outside the float range after spacing and origin");
+          return Status::sink_refused;
+        }
+        out[axis] = static_cast<float>(world[axis]);
+      }
+    }
+    return Status::ok;
+  }
+
+  Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
+    std::size_t corners = 0;
+    for (std::size_t i = 0; i < polygon_count; ++i) corners += polygons[i].vertex_count;
+    const std::size_t first_index = mesh_.polygon_indices.size();
+    const std::size_t first_face = mesh_.polygon_offsets.size();
+    // Seven slots copied whole per polygon, the next one overwriting the unused: one polygon's
+    // slack, trimmed after.
+    mesh_.polygon_indices.resize(first_index + corners + kMaxPolygonVertices);
+    mesh_.polygon_offsets.resize(first_face + polygon_count);
+    std::int32_t* index = mesh_.polygon_indices.data() + first_index;
+    std::int64_t* offset = mesh_.polygon_offsets.data() + first_face;
+    std::int64_t at = static_cast<std::int64_t>(first_index);
+    for (std::size_t i = 0; i < polygon_count; ++i) {
+      std::memcpy(index, polygons[i].vertices, sizeof polygons[i].vertices);
+      index += polygons[i].vertex_count;
+      at += polygons[i].vertex_count;
+      *offset++ = at;
+    }
+    mesh_.polygon_indices.resize(first_index + corners);
+    return Status::ok;
+  }
+
+  MeshArrays& mesh() { return mesh_; }
+  const std::optional<Error>& error() const { return error_; }
+
+ private:
+  const WorldTransform& placement_;
+  const std::string& label_;
+  MeshArrays mesh_;
+  std::optional<Error> error_;
+};
+
+}  // namespace
 
 ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOptions& options,
                                   const std::string& label) {
@@ -18,6 +88,16 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
   std::optional<NormalWindow> window;
   const std::array<double, 3> spacing = {options.placement.spacing[0], options.placement.spacing[1],
                                          options.placement.spacing[2]};
+  if (!options.normals && !options.triangulate && options.placement.is_axis_aligned() &&
+      !options.placement.mirrors()) {
+    AlignedArraysSink sink(options.placement, label);
+    const PipelineResult result =
+        run_pipeline(source, options.threshold, options.engine, sink, label);
+    if (result.status == Status::sink_refused && sink.error()) throw *sink.error();
+    if (result.status != Status::ok)
+      throw Error(label, std::string("extraction failed: ") + status_message(result.status));
+    return ArrayExtraction{std::move(sink.mesh()), result.counters};
+  }
   if (options.normals) window.emplace(volume, spacing, label);
   MeshWriterOptions mesh;
   mesh.transform = options.placement;
