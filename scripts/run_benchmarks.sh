@@ -7,7 +7,7 @@ runs=${RUNS:-5}
 "$root/scripts/install_bench_deps.sh" >/dev/null  # mvox's own, plus VTK and scikit-image
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_bench_extract \
-  mvox_bench_extract_once mvox_bench_resample mvox_bench_render mvox_bench_paper >/dev/null
+  mvox_bench_extract_once mvox_bench_resample mvox_python mvox_bench_render mvox_bench_paper >/dev/null
 
 out="$root/docs/benchmarks.md"
 tmp=$(mktemp)
@@ -150,6 +150,18 @@ CPUs with AVX2, chosen at start-up, by two lane permutations of the running indi
   echo "in a Python where VTK is already imported. Ratio: VTK / mvox, median of per-round ratios."
   echo
   /usr/bin/python3 "$root/bench/end_to_end_vs_vtk.py" --runs "$runs"
+  echo
+  echo "## Python, in one process: mvox.extract against scikit-image and VTK"
+  echo
+  PYTHONPATH="$root/build/python" /usr/bin/python3 "$root/bench/python_side_by_side.py" --runs "$runs"
+  echo
+  echo "## Writers against the disk: a 1024^3 volume"
+  echo
+  big=$(mktemp -d)
+  "$root/build/bench/mvox_bench_resample" "$root/../shared/datasets/engine/engine_256x256x128_uint8.raw" \
+    256x256x128 "$big/engine1024.raw" 1024x1024x1024
+  "$root/bench/writer_speed.sh" "$root/build/src/mvox" "$big/engine1024.raw" 1024x1024x1024 100 "$runs"
+  rm -rf "$big"
   echo
   echo "## Reading these figures"
   echo
