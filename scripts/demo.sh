@@ -9,4 +9,5 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install_deps.sh"
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$root/build" -j"$(nproc)" --target mvox mvox_python
+"$root/scripts/install_python.sh" > /dev/null  # import mvox from any folder (README, Python)
 "$root/build/src/mvox" demo "$@"
