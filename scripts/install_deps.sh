@@ -15,6 +15,7 @@ packages=(
   libgdcm-dev                                                       # DICOM series (GDCM)
   libcli11-dev                                                      # command-line parsing
   googletest libgtest-dev                                           # tests
+  xvfb                                                              # the --show window's test, on a virtual display
   pybind11-dev python3-dev python3-numpy python3-pytest             # the Python module and its tests
   time hyperfine                                                    # benchmarks (/usr/bin/time -v)
 )
