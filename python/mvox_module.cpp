@@ -39,9 +39,9 @@ namespace {
 
 // A vector handed to numpy: the array owns it through a capsule, so nothing is copied.
 template <class T>
-py::array_t<T> to_numpy(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
-  auto* owned = new std::vector<T>(std::move(values));
-  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+py::array_t<T> to_numpy(ArrayOf<T>&& values, std::vector<py::ssize_t> shape) {
+  auto* owned = new ArrayOf<T>(std::move(values));
+  py::capsule owner(owned, [](void* p) { delete static_cast<ArrayOf<T>*>(p); });
   return py::array_t<T>(shape, owned->data(), owner);
 }
 

@@ -22,13 +22,32 @@ namespace {
 // core's tests check it.
 class AlignedArraysSink : public PolygonSink {
  public:
-  AlignedArraysSink(const WorldTransform& placement, const std::string& label)
-      : placement_(placement), label_(label) {}
+  AlignedArraysSink(const WorldTransform& placement, std::uint32_t depth, const std::string& label)
+      : placement_(placement), depth_(depth), label_(label) {
+    identity_ = true;
+    for (int axis = 0; axis < 3; ++axis)
+      identity_ = identity_ && placement.spacing[axis] == 1.0 && placement.origin[axis] == 0.0;
+  }
 
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
     const std::size_t first = mesh_.vertices.size();
+    // The share of the volume done so far, from the last vertex's slice (vertices come slice
+    // by slice): the arrays are grown once or twice to the size it predicts, rather than
+    // doubled a dozen times, each time copying what they hold.
+    if (vertex_count > 0)
+      done_ = std::min(1.0, (vertices[vertex_count - 1].z + 1.0) / (depth_ + 1.0));
+    grow(mesh_.vertices, first + 3 * vertex_count);
     mesh_.vertices.resize(first + 3 * vertex_count);
     float* out = mesh_.vertices.data() + first;
+    if (identity_) {
+      // Spacing 1 and origin 0: 0 + 1 * v in double is v exactly, so the float is v itself.
+      for (std::size_t i = 0; i < vertex_count; ++i, out += 3) {
+        out[0] = vertices[i].x;
+        out[1] = vertices[i].y;
+        out[2] = vertices[i].z;
+      }
+      return Status::ok;
+    }
     for (std::size_t i = 0; i < vertex_count; ++i, out += 3) {
       const Vector3d world =
           placement_.axis_aligned_position(vertices[i].x, vertices[i].y, vertices[i].z);
@@ -53,6 +72,8 @@ class AlignedArraysSink : public PolygonSink {
     const std::size_t first_face = mesh_.polygon_offsets.size();
     // Seven slots copied whole per polygon, the next one overwriting the unused: one polygon's
     // slack, trimmed after.
+    grow(mesh_.polygon_indices, first_index + corners + kMaxPolygonVertices);
+    grow(mesh_.polygon_offsets, first_face + polygon_count);
     mesh_.polygon_indices.resize(first_index + corners + kMaxPolygonVertices);
     mesh_.polygon_offsets.resize(first_face + polygon_count);
     std::int32_t* index = mesh_.polygon_indices.data() + first_index;
@@ -72,7 +93,20 @@ class AlignedArraysSink : public PolygonSink {
   const std::optional<Error>& error() const { return error_; }
 
  private:
+  // Room for `needed` numbers: what the share done so far predicts for the whole volume, with
+  // a margin, or twice as much when the prediction is already exceeded.
+  template <class Array>
+  void grow(Array& array, std::size_t needed) {
+    if (needed <= array.capacity()) return;
+    const double predicted = done_ > 0 ? 1.1 * static_cast<double>(needed) / done_ : 0;
+    array.reserve(std::max<std::size_t>(
+        needed, predicted > 2.0 * needed ? static_cast<std::size_t>(predicted) : 2 * needed));
+  }
+
   const WorldTransform& placement_;
+  std::uint32_t depth_;
+  bool identity_ = false;  // spacing 1, origin 0
+  double done_ = 0;        // of the volume, by the last vertex's slice
   const std::string& label_;
   MeshArrays mesh_;
   std::optional<Error> error_;
@@ -90,7 +124,7 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
                                          options.placement.spacing[2]};
   if (!options.normals && !options.triangulate && options.placement.is_axis_aligned() &&
       !options.placement.mirrors()) {
-    AlignedArraysSink sink(options.placement, label);
+    AlignedArraysSink sink(options.placement, volume.depth, label);
     const PipelineResult result =
         run_pipeline(source, options.threshold, options.engine, sink, label);
     if (result.status == Status::sink_refused && sink.error()) throw *sink.error();

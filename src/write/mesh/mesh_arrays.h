@@ -3,20 +3,46 @@
 // for vertex and face for face (the same placement, winding and triangulation, MeshWriter's),
 // for callers that hand the mesh on in memory, such as the Python module.
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
 
+// An allocator whose resize() leaves new numbers uninitialised: the writers fill every one right
+// after, and zeroing them first cost as much as copying the mesh once more.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  UninitialisedAllocator() = default;
+  template <class U>
+  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using ArrayOf = std::vector<T, UninitialisedAllocator<T>>;
+
 // Faces in the compressed-row layout of VTK's cell arrays: face i is
 // polygon_indices[polygon_offsets[i] .. polygon_offsets[i + 1]).
 struct MeshArrays {
-  std::vector<float> vertices;  // x, y, z of each vertex, in the world (as PLY's x, y, z)
-  std::vector<float> normals;   // nx, ny, nz of each vertex, when asked for; else empty
-  std::vector<std::int64_t> polygon_offsets{0};  // one more than there are faces
-  std::vector<std::int32_t> polygon_indices;
+  ArrayOf<float> vertices;  // x, y, z of each vertex, in the world (as PLY's x, y, z)
+  ArrayOf<float> normals;   // nx, ny, nz of each vertex, when asked for; else empty
+  ArrayOf<std::int64_t> polygon_offsets{0};  // one more than there are faces
+  ArrayOf<std::int32_t> polygon_indices;
 
   std::size_t vertex_count() const { return vertices.size() / 3; }
   std::size_t face_count() const { return polygon_offsets.size() - 1; }
