@@ -16,6 +16,7 @@ packages=(
   libcli11-dev                                                      # command-line parsing
   googletest libgtest-dev                                           # tests
   xvfb                                                              # the --show window's test, on a virtual display
+  strace                                                            # --sync's test sees mvox's fsync calls
   pybind11-dev python3-dev python3-numpy python3-pytest             # the Python module and its tests
   time hyperfine                                                    # benchmarks (/usr/bin/time -v)
 )

@@ -66,7 +66,7 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
                 options.smooth ? normals : nullptr);
 
   if (!options.frames_dir.empty()) prepare_frames_dir(options.frames_dir);
-  if (!options.image_path.empty()) image_file_.emplace(options.image_path);
+  if (!options.image_path.empty()) image_file_.emplace(options.image_path, options.sync);
   if (options.show) {
     std::string why_not;
     live_window_ = LiveWindow::open("mvox", &why_not);

@@ -21,6 +21,7 @@ class LiveWindow;
 
 struct PictureOptions {
   std::string image_path;  // the final picture (.png, .pgm, .tif...); empty: none
+  bool sync = false;       // make the picture durable before it appears (--sync)
   std::uint32_t width = 512;
   std::uint32_t height = 512;
   ViewOptions view;

@@ -196,15 +196,19 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (want_mesh) {
     MeshWriterOptions mesh = job.mesh;
     mesh.normals = job.normals ? normals : nullptr;
+    mesh.sync = mesh.sync || job.sync;
     writer = open_mesh_writer(job.output, job.format, mesh);
     // STL and --triangulate need each polygon's positions.
     if (writer->needs_polygon_geometry()) engine.polygon_geometry = true;
   }
   std::optional<SurfacePicture> picture;
-  if (want_picture)
-    picture.emplace(report.volume, placement.spacing, placement.origin, normals, job.picture);
+  if (want_picture) {
+    PictureOptions picture_options = job.picture;
+    picture_options.sync = picture_options.sync || job.sync;
+    picture.emplace(report.volume, placement.spacing, placement.origin, normals, picture_options);
+  }
   std::optional<OutputFile> stats_file;
-  if (!job.stats_path.empty()) stats_file.emplace(job.stats_path);
+  if (!job.stats_path.empty()) stats_file.emplace(job.stats_path, job.sync);
 
   PipelineSinks sinks;
   if (writer) sinks.mesh = &*writer;

@@ -24,6 +24,9 @@ struct MeshJob {
   bool normals = false;  // write gradient normals (PLY nx, ny, nz; OBJ vn) into the mesh
   PictureOptions picture;
   std::string stats_path;    // empty: no report
+  // Make every output durable (fsync) before it appears: --sync. Sets the mesh's and the
+  // picture's own `sync` too.
+  bool sync = false;
   bool quiet = false;        // no progress line, no summary
   double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
   // Every file the source reads: no output may replace one (output_targets.h).

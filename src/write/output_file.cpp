@@ -92,8 +92,8 @@ bool has_fowner_capability() {
 
 }  // namespace
 
-OutputFile::OutputFile(const std::string& path)
-    : path_(path), subject_(path == "-" ? "standard output" : path) {
+OutputFile::OutputFile(const std::string& path, bool sync)
+    : path_(path), subject_(path == "-" ? "standard output" : path), sync_(sync) {
   if (path_.empty()) throw Error("output file", "empty file name");
   if (path_ == "-") {
     open_descriptor(STDOUT_FILENO);
@@ -227,9 +227,10 @@ void OutputFile::seal() {
     sealed_ = true;
     return;
   }
-  // fsync before rename: otherwise a crash shortly after can leave the new name on an empty
-  // file, and some file systems (NFS, quotas) report ENOSPC only here or at close.
-  if (::fsync(writer_.fd()) != 0) fail_write(errno);
+  // With `sync`, fsync before the rename: otherwise a power loss shortly after can leave the new
+  // name on an empty file. Without it the rename is still atomic for every other process, and
+  // a late error (NFS, quotas) is still caught by close() below.
+  if (sync_ && ::fsync(writer_.fd()) != 0) fail_write(errno);
   const int fd = writer_.fd();
   writer_.set_fd(-1);
   if (::close(fd) != 0) fail_write(errno);

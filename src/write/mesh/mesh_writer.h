@@ -27,6 +27,8 @@ struct MeshWriterOptions {
   const VertexNormals* normals = nullptr;
   // Split every polygon into triangles (polygon_triangulation.h); STL always does.
   bool triangulate = false;
+  // Make the file durable before it appears (OutputFile's `sync`, --sync).
+  bool sync = false;
 };
 
 // A vertex as written: its world position, and its world normal when the options have normals.

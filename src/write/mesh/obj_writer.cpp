@@ -19,7 +19,7 @@ char* put_floats(char* out, char* end, const char* keyword, const float* values)
 }  // namespace
 
 ObjWriter::ObjWriter(const std::string& path, const MeshWriterOptions& options)
-    : MeshWriter(options, Faces::as_polygons, Positions::not_needed), out_(path) {
+    : MeshWriter(options, Faces::as_polygons, Positions::not_needed), out_(path, options.sync) {
   std::string comments;
   for (const std::string& comment : this->options().comments) comments += "# " + comment + "\n";
   out_.write(comments.data(), comments.size());

@@ -41,7 +41,7 @@ std::size_t PlyWriter::reserved_header_bytes(const PlyWriterOptions& options) {
 PlyWriter::PlyWriter(const std::string& path, PlyWriterOptions options)
     : MeshWriter(options, Faces::as_polygons, Positions::not_needed),
       format_(options.format),
-      out_(path),
+      out_(path, options.sync),
       faces_(out_.scratch_directory(), out_.subject()) {
   if (out_.can_overwrite()) {
     // Placeholder until finish(): the same size as the real header, so nothing moves.

@@ -44,7 +44,7 @@ std::string StlWriter::header(const MeshWriterOptions& options) {
 
 StlWriter::StlWriter(const std::string& path, const MeshWriterOptions& options)
     : MeshWriter(without_vertex_normals(options), Faces::as_triangles, Positions::needed),
-      out_(path) {
+      out_(path, options.sync) {
   if (out_.can_overwrite()) {
     // The count is a placeholder until complete_file().
     std::string start = header(options);
