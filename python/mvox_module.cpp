@@ -45,12 +45,39 @@ py::array_t<T> to_numpy(ArrayOf<T>&& values, std::vector<py::ssize_t> shape) {
   return py::array_t<T>(shape, owned->data(), owner);
 }
 
+// Marks an object in use for the length of a call that releases the GIL, so that a second
+// Python thread calling it meanwhile gets a RuntimeError instead of racing on its buffers.
+// Set and cleared while holding the GIL.
+class InUse {
+ public:
+  InUse(bool& busy, const char* what) : busy_(busy) {
+    if (busy_)
+      throw std::runtime_error(std::string(what) +
+                               " is in use by another thread; use one object per thread");
+    busy_ = true;
+  }
+  ~InUse() { busy_ = false; }
+  InUse(const InUse&) = delete;
+  InUse& operator=(const InUse&) = delete;
+
+ private:
+  bool& busy_;
+};
+
 // The sample type of a numpy dtype mvox reads, or a TypeError naming what it got.
 SampleType sample_type_of(const py::dtype& dtype, const char* what) {
-  if (dtype.is(py::dtype::of<std::uint8_t>())) return SampleType::u8;
-  if (dtype.is(py::dtype::of<std::uint16_t>())) return SampleType::u16;
-  if (dtype.is(py::dtype::of<std::int16_t>())) return SampleType::i16;
-  if (dtype.is(py::dtype::of<float>())) return SampleType::f32;
+  // By kind, size and byte order, not by identity: a dtype that came through pickle (say, from
+  // multiprocessing) is an equal but distinct object.
+  const char kind = dtype.kind();
+  const py::ssize_t size = dtype.itemsize();
+  const char order = py::str(dtype.attr("byteorder")).cast<std::string>()[0];
+  const std::uint16_t one = 1;
+  const bool little_host = *reinterpret_cast<const unsigned char*>(&one) == 1;
+  const bool native = order == '=' || order == '|' || order == (little_host ? '<' : '>');
+  if (native && kind == 'u' && size == 1) return SampleType::u8;
+  if (native && kind == 'u' && size == 2) return SampleType::u16;
+  if (native && kind == 'i' && size == 2) return SampleType::i16;
+  if (native && kind == 'f' && size == 4) return SampleType::f32;
   const std::string name = py::str(py::handle(dtype)).cast<std::string>();
   throw py::type_error(std::string(what) + " has dtype " + name +
                        "; mvox reads uint8, uint16, int16 and float32 (native byte order): "
@@ -195,6 +222,7 @@ class Extractor {
 
   // The vertices and faces the slice completed, with indices counted from the first slice.
   py::tuple push(py::array slice) {
+    const InUse in_use(busy_, "this mvox.Extractor");
     if (finished_) throw py::value_error("push() after finish()");
     if (slice.ndim() != 2 || slice.shape(0) != height_ || slice.shape(1) != width_)
       throw py::value_error("slice must be [y, x] of shape (" + std::to_string(height_) + ", " +
@@ -218,6 +246,7 @@ class Extractor {
   }
 
   py::tuple finish() {
+    const InUse in_use(busy_, "this mvox.Extractor");
     if (finished_) throw py::value_error("finish() called twice");
     finished_ = true;
     check(engine_.finish());
@@ -225,7 +254,10 @@ class Extractor {
     return take();
   }
 
-  py::dict counters() const { return counters_dict(engine_.counters()); }
+  py::dict counters() {
+    const InUse in_use(busy_, "this mvox.Extractor");
+    return counters_dict(engine_.counters());
+  }
 
  private:
   void check(Status status) {
@@ -246,6 +278,7 @@ class Extractor {
   std::uint32_t width_, height_;
   bool triangulate_;
   bool finished_ = false;
+  bool busy_ = false;  // a call is running (InUse)
   std::unique_ptr<MeshArraysWriter> writer_;
   std::unique_ptr<WorkspaceBuffer> workspace_;
   Engine engine_;
@@ -273,17 +306,18 @@ std::vector<std::string> input_paths(const py::object& paths) {
   return list;
 }
 
-OpenedInput open_paths(const py::object& paths, const std::optional<std::string>& raw) {
+OpenedInput open_paths(const std::vector<std::string>& paths,
+                       const std::optional<std::string>& raw) {
   InputOptions options;
   if (raw) options.raw = parse_raw_format(*raw);
-  return open_input(input_paths(paths), options);
+  return open_input(paths, options);
 }
 
 // mvox.open: the command line's readers as an iterator of slices, one pass.
 class Volume {
  public:
   Volume(const py::object& paths, const std::optional<std::string>& raw)
-      : input_(open_paths(paths, raw)) {}
+      : input_(open_paths(input_paths(paths), raw)) {}
 
   const VolumeInfo& info() const { return input_.source->info(); }
   py::tuple shape() const { return py::make_tuple(info().depth, info().height, info().width); }
@@ -303,6 +337,7 @@ class Volume {
 
   // The next slice, [y, x], copied: the reader's buffer is reused for the one after.
   py::array next() {
+    const InUse in_use(busy_, "this mvox.Volume");
     SliceView slice;
     bool more = false;
     {
@@ -325,13 +360,16 @@ class Volume {
 
  private:
   OpenedInput input_;
+  bool busy_ = false;  // a call is running (InUse)
 };
 
 Mesh extract_file(const py::object& paths, double threshold, const std::optional<std::string>& raw,
                   const std::optional<std::array<double, 3>>& spacing,
                   const std::optional<std::array<double, 3>>& origin, const std::string& method,
                   bool triangulate, bool normals) {
-  OpenedInput input = open_paths(paths, raw);
+  // Listed once: `paths` may be a generator.
+  const std::vector<std::string> list = input_paths(paths);
+  OpenedInput input = open_paths(list, raw);
   ArrayExtractionOptions options;
   options.threshold = threshold;
   options.engine = engine_options(method);
@@ -344,7 +382,6 @@ Mesh extract_file(const py::object& paths, double threshold, const std::optional
   }
   options.triangulate = triangulate;
   options.normals = normals;
-  const std::vector<std::string> list = input_paths(paths);
   const std::string label = list.size() == 1 ? list.front() : list.front() + " ...";
   ArrayExtraction result;
   {
@@ -366,10 +403,23 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<s
                           "': name it .ply, .stl or .obj, or give format=\"ply\", \"ply-ascii\", "
                           "\"stl\" or \"obj\"");
   if (ascii && *chosen == MeshFormat::ply) chosen = MeshFormat::ply_ascii;
+  if (!mesh.normals.is_none())
+    throw py::value_error(
+        "this mesh has normals, which mvox.write does not write yet: extract it without "
+        "normals=True, or use mvox extract --normals");
+  // The arrays are the caller's to change: their shapes and offsets are checked before any is
+  // read without bounds checks.
+  if (mesh.vertices.ndim() != 2 || mesh.vertices.shape(1) != 3)
+    throw py::value_error("mesh.vertices must have shape (N, 3)");
+  if (mesh.polygon_offsets.ndim() != 1 || mesh.polygon_indices.ndim() != 1 ||
+      mesh.polygon_offsets.shape(0) < 1)
+    throw py::value_error("mesh.polygon_offsets and polygon_indices must be 1-D");
   const auto vertices = mesh.vertices.unchecked<2>();
   const auto offsets = mesh.polygon_offsets.unchecked<1>();
   const auto indices = mesh.polygon_indices.unchecked<1>();
   const py::ssize_t faces = offsets.shape(0) - 1;
+  if (offsets(0) != 0 || offsets(faces) != indices.shape(0))
+    throw py::value_error("mesh.polygon_offsets must run from 0 to len(polygon_indices)");
   for (py::ssize_t i = 0; i < faces; ++i) {
     const std::int64_t size = offsets(i + 1) - offsets(i);
     if (size < 3 || size > kMaxPolygonVertices)

@@ -136,3 +136,24 @@ def test_bad_shapes_methods_and_placements_are_value_errors():
         mvox.extract(np.zeros((3, 4, 5), np.uint8), 1, method="tetrahedra")
     with pytest.raises(mvox.Error, match="spacing"):
         mvox.extract(np.zeros((3, 4, 5), np.uint8), 1, spacing=(0, 1, 1))
+
+
+def test_a_dtype_that_came_through_pickle_is_read():
+    import pickle
+    volume = pickle.loads(pickle.dumps(blobs(np.uint16)))
+    assert mvox.extract(volume, 20000).vertices.tobytes() == \
+        mvox.extract(blobs(np.uint16), 20000).vertices.tobytes()
+
+
+def test_a_deep_volume_with_its_surface_in_the_first_slices_reserves_little():
+    """The arrays grow to what the share of slices done predicts: a surface in the first 3 of
+    20,000 slices must not make that prediction reserve gigabytes."""
+    def vm_peak_kib():
+        status = open("/proc/self/status").read()
+        return int(status.split("VmPeak:")[1].split()[0])
+    volume = np.zeros((20000, 64, 64), np.uint8)
+    volume[:3] = np.random.default_rng(1).integers(0, 255, (3, 64, 64), dtype=np.uint8)
+    before = vm_peak_kib()
+    mesh = mvox.extract(volume, 128)
+    assert mesh.counters["vertices"] > 1000
+    assert vm_peak_kib() - before < 512 * 1024, "more than 512 MiB of address space reserved"

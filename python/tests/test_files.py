@@ -85,3 +85,10 @@ def test_errors_carry_the_command_lines_line(tmp_path, mvox_binary, case):
     with pytest.raises(mvox.Error) as raised:
         mvox.extract_file(path, 100, raw=raw)
     assert "mvox: error: " + str(raised.value) == line
+
+
+def test_paths_may_come_from_a_generator(tmp_path):
+    volume = blobs(np.uint8)
+    (tmp_path / "v.raw").write_bytes(volume.tobytes())
+    mesh = mvox.extract_file((p for p in [tmp_path / "v.raw"]), 100, raw="13x11x9:u8")
+    assert mesh.vertices.tobytes() == mvox.extract(volume, 100).vertices.tobytes()

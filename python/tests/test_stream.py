@@ -108,3 +108,27 @@ def test_a_volume_larger_than_the_process_may_hold(tmp_path):
     assert peak_mib < 200, f"peak {peak_mib} MiB"
     print(f"1 GiB volume streamed under a 512 MiB address-space limit: peak {peak_mib} MiB, "
           f"{vertices} vertices, {polygons} polygons")
+
+
+def test_two_threads_on_one_extractor_get_an_error_not_a_crash():
+    script = textwrap.dedent("""
+        import threading, numpy as np, mvox
+        ex = mvox.Extractor(512, 512, 100)
+        slice_ = np.random.default_rng(2).integers(0, 255, (512, 512), dtype=np.uint8)
+        errors = []
+        def push():
+            for _ in range(100):
+                try:
+                    ex.push(slice_)
+                except RuntimeError as e:
+                    errors.append(str(e))
+        threads = [threading.Thread(target=push) for _ in range(2)]
+        for t in threads: t.start()
+        for t in threads: t.join()
+        assert all("in use by another thread" in e for e in errors), errors[:3]
+        ex.finish()
+        print("ok", len(errors))
+    """)
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith("ok")

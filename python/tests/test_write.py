@@ -81,3 +81,13 @@ def test_the_arrays_in_other_libraries_conventions():
     assert triangles.faces.shape[1] == 3
     assert len(triangles.faces) == int((sizes - 2).sum())
     assert triangles.vertices.tobytes() == mesh.vertices.tobytes()
+
+
+def test_meshes_it_cannot_write_are_refused_before_any_byte(tmp_path):
+    mesh = mvox.extract(blobs(np.uint8), 100)
+    mesh.polygon_offsets[1:] += 1 << 40  # the caller's arrays are writable
+    with pytest.raises(ValueError, match="polygon_offsets"):
+        mvox.write(mesh, str(tmp_path / "broken.ply"))
+    with pytest.raises(ValueError, match="normals"):
+        mvox.write(mvox.extract(blobs(np.uint8), 100, normals=True), str(tmp_path / "n.ply"))
+    assert not list(tmp_path.iterdir())

@@ -27,13 +27,17 @@ std::string own_directory() {
   if (dladdr(reinterpret_cast<void*>(&own_directory), &info) == 0 || info.dli_fname == nullptr)
     return "";
   std::string file = info.dli_fname;
-  // The main executable may be reported by the name it was started with: the kernel knows its
-  // real path.
+  // The main executable is reported by the name it was started with (argv[0]): a bare name found
+  // on PATH, or a symbolic link elsewhere. The kernel knows its real path; any other file's name
+  // is resolved through its links.
   if (file.find('/') == std::string::npos) {
     char path[4096];
     const ssize_t length = readlink("/proc/self/exe", path, sizeof path - 1);
     if (length <= 0) return "";
     file.assign(path, static_cast<std::size_t>(length));
+  } else if (char* real = realpath(file.c_str(), nullptr)) {
+    file = real;
+    std::free(real);
   }
   const std::size_t slash = file.rfind('/');
   return slash == std::string::npos ? "" : file.substr(0, slash);

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -29,7 +30,42 @@ class AlignedArraysSink : public PolygonSink {
       identity_ = identity_ && placement.spacing[axis] == 1.0 && placement.origin[axis] == 0.0;
   }
 
+  // The engine is built without exceptions: nothing may leave these calls. A failure is kept
+  // and the engine told to stop; extract_to_arrays rethrows it.
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override {
+    try {
+      return take_vertices(vertices, vertex_count);
+    } catch (...) {
+      thrown_ = std::current_exception();
+      return Status::sink_refused;
+    }
+  }
+
+  Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
+    try {
+      return take_polygons(polygons, polygon_count);
+    } catch (...) {
+      thrown_ = std::current_exception();
+      return Status::sink_refused;
+    }
+  }
+
+  MeshArrays& mesh() { return mesh_; }
+  const std::optional<Error>& error() const { return error_; }
+  std::exception_ptr thrown() const { return thrown_; }
+
+  // Gives back what the predictions reserved beyond the mesh, when that is much.
+  void trim() {
+    auto fit = [](auto& array) {
+      if (array.capacity() > array.size() + array.size() / 2) array.shrink_to_fit();
+    };
+    fit(mesh_.vertices);
+    fit(mesh_.polygon_offsets);
+    fit(mesh_.polygon_indices);
+  }
+
+ private:
+  Status take_vertices(const Vertex* vertices, std::size_t vertex_count) {
     const std::size_t first = mesh_.vertices.size();
     // The share of the volume done so far, from the last vertex's slice (vertices come slice
     // by slice): the arrays are grown once or twice to the size it predicts, rather than
@@ -65,7 +101,7 @@ class AlignedArraysSink : public PolygonSink {
     return Status::ok;
   }
 
-  Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override {
+  Status take_polygons(const Polygon* polygons, std::size_t polygon_count) {
     std::size_t corners = 0;
     for (std::size_t i = 0; i < polygon_count; ++i) corners += polygons[i].vertex_count;
     const std::size_t first_index = mesh_.polygon_indices.size();
@@ -89,18 +125,16 @@ class AlignedArraysSink : public PolygonSink {
     return Status::ok;
   }
 
-  MeshArrays& mesh() { return mesh_; }
-  const std::optional<Error>& error() const { return error_; }
-
- private:
   // Room for `needed` numbers: what the share done so far predicts for the whole volume, with
-  // a margin, or twice as much when the prediction is already exceeded.
+  // a margin, or twice as much when the prediction is already exceeded. The prediction is trusted
+  // only once a tenth of the volume is done, and to at most 8 times what is held: a surface in the
+  // first slices of a deep volume must not reserve gigabytes.
   template <class Array>
   void grow(Array& array, std::size_t needed) {
     if (needed <= array.capacity()) return;
-    const double predicted = done_ > 0 ? 1.1 * static_cast<double>(needed) / done_ : 0;
-    array.reserve(std::max<std::size_t>(
-        needed, predicted > 2.0 * needed ? static_cast<std::size_t>(predicted) : 2 * needed));
+    const double predicted = done_ >= 0.1 ? 1.1 * static_cast<double>(needed) / done_ : 0;
+    const double capped = std::min(predicted, 8.0 * static_cast<double>(needed));
+    array.reserve(std::max<std::size_t>(2 * needed, static_cast<std::size_t>(capped)));
   }
 
   const WorldTransform& placement_;
@@ -110,6 +144,7 @@ class AlignedArraysSink : public PolygonSink {
   const std::string& label_;
   MeshArrays mesh_;
   std::optional<Error> error_;
+  std::exception_ptr thrown_;
 };
 
 }  // namespace
@@ -127,9 +162,12 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
     AlignedArraysSink sink(options.placement, volume.depth, label);
     const PipelineResult result =
         run_pipeline(source, options.threshold, options.engine, sink, label);
+    if (result.status == Status::sink_refused && sink.thrown())
+      std::rethrow_exception(sink.thrown());  // std::bad_alloc stays itself: MemoryError
     if (result.status == Status::sink_refused && sink.error()) throw *sink.error();
     if (result.status != Status::ok)
       throw Error(label, std::string("extraction failed: ") + status_message(result.status));
+    sink.trim();
     return ArrayExtraction{std::move(sink.mesh()), result.counters};
   }
   if (options.normals) window.emplace(volume, spacing, label);

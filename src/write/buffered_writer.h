@@ -22,7 +22,7 @@ class BufferedWriter {
   static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
 
   BufferedWriter();
-  ~BufferedWriter();  // waits for a background write in progress (its bytes are dropped)
+  ~BufferedWriter();  // waits for a background write in progress; buffered bytes are dropped
   BufferedWriter(const BufferedWriter&) = delete;
   BufferedWriter& operator=(const BufferedWriter&) = delete;
 

@@ -36,7 +36,9 @@ bool is_png(const std::string& extension) {
 }  // namespace
 
 void initialize_image_codecs(const std::string& path) {
-  if (!is_png(extension_of(path))) load_image_codecs(path);
+  // No extension: check_image_extension refuses the name, OpenCV has nothing to say about it.
+  const std::string extension = extension_of(path);
+  if (!extension.empty() && !is_png(extension)) load_image_codecs(path);
 }
 
 void check_image_extension(const std::string& path) {

@@ -7,6 +7,7 @@
 #include <tiffio.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -189,6 +190,37 @@ TEST_F(LeanProcess, AMissingModuleIsOneLineNamingItAndHowToInstall) {
   EXPECT_NE(result.output.find("libmvox_image_codecs.so"), std::string::npos) << result.output;
   for (const char* output : {"m.ply", "p.bmp"})
     EXPECT_FALSE(test::exists((dir_.path() / output).string())) << output;
+}
+
+}  // namespace
+}  // namespace mvox
+
+namespace mvox {
+namespace {
+
+// Started through a symbolic link by its path, mvox still finds its modules beside the real
+// executable (argv[0] would name the link's folder).
+TEST(LeanProcessLinks, ASymbolicLinkToMvoxFindsTheModulesBesideTheRealFile) {
+  test::ScratchDirectory dir;
+  write_pgm_stack(dir);
+  std::filesystem::create_directories(dir.path() / "bin");
+  std::filesystem::create_symlink(MVOX_BINARY, dir.path() / "bin" / "mvox");
+  const std::string command = "cd '" + dir.str() + "' && env -u MVOX_MODULE_PATH bin/mvox " +
+                              "extract pgm -t 100 -o m.ply -q 2>&1";
+  const int status = std::system(command.c_str());
+  EXPECT_EQ(status, 0);
+  EXPECT_TRUE(test::exists((dir.path() / "m.ply").string()));
+}
+
+// A picture name without an extension is refused for what it is, without loading OpenCV to
+// ask about it.
+TEST(LeanProcessLinks, APictureWithoutAnExtensionIsRefusedWithoutAnyModule) {
+  test::ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom sphere -o stack --size 16x16x8 -q", dir.path()).exit_code, 0);
+  const test::CommandResult result = run_mvox("extract stack -t 100 --image picture -q", dir.path(),
+                                              "MVOX_MODULE_PATH=/nonexistent/modules");
+  test::expect_one_line_error(result, "picture");
+  EXPECT_NE(result.output.find("no image type"), std::string::npos) << result.output;
 }
 
 }  // namespace

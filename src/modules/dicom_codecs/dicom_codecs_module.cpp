@@ -50,7 +50,8 @@ void decode(const mvox_dicom_frame& expected, unsigned char* destination, size_t
     check_image(image, expected);
     if (image.GetBufferLength() != bytes)
       throw Problem{"GDCM decodes " + std::to_string(image.GetBufferLength()) +
-                    " bytes, expected " + std::to_string(bytes)};
+                        " bytes where the header says " + std::to_string(bytes),
+                    -2};
     if (!image.GetBuffer(reinterpret_cast<char*>(destination))) throw Problem{""};
     return;
   }
@@ -63,7 +64,8 @@ void decode(const mvox_dicom_frame& expected, unsigned char* destination, size_t
   reader.SetRegion(box);
   if (reader.ComputeBufferLength() != bytes)
     throw Problem{"GDCM's frame is " + std::to_string(reader.ComputeBufferLength()) +
-                  " bytes, expected " + std::to_string(bytes)};
+                      " bytes where the header says " + std::to_string(bytes),
+                  -2};
   if (!reader.ReadIntoBuffer(reinterpret_cast<char*>(destination), bytes))
     throw Problem{"frame " + std::to_string(expected.frame)};
 }

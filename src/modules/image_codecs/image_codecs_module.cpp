@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <mutex>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
@@ -48,6 +49,10 @@ std::string opencv_reason(const std::string& text) {
   return reason;
 }
 
+// std::cerr's buffer is the process's: decodes that redirect it take turns, or one would put
+// back another's buffer after it is gone (Python may decode on several threads at once).
+std::mutex g_cerr_mutex;
+
 // Puts std::cerr back on every way out.
 struct CerrRedirect {
   explicit CerrRedirect(std::streambuf* into) : saved(std::cerr.rdbuf(into)) {}
@@ -82,6 +87,7 @@ int mvox_image_decode(const unsigned char* bytes, size_t size, mvox_image_destin
     std::stringbuf decoder_messages;
     cv::Mat image;
     {
+      const std::lock_guard<std::mutex> lock(g_cerr_mutex);
       const CerrRedirect redirect(&decoder_messages);
       try {
         // ANYDEPTH keeps 16-bit samples (the default would scale them to 8 bits); ANYCOLOR
