@@ -57,7 +57,7 @@ class AlignedArraysSink : public PolygonSink {
   // Gives back what the predictions reserved beyond the mesh, when that is much.
   void trim() {
     auto fit = [](auto& array) {
-      if (array.capacity() > array.size() + array.size() / 2) array.shrink_to_fit();
+      if (array.capacity() > 2 * array.size() + (std::size_t{1} << 20)) array.shrink_to_fit();
     };
     fit(mesh_.vertices);
     fit(mesh_.polygon_offsets);
@@ -125,16 +125,21 @@ class AlignedArraysSink : public PolygonSink {
     return Status::ok;
   }
 
-  // Room for `needed` numbers: what the share done so far predicts for the whole volume, with
-  // a margin, or twice as much when the prediction is already exceeded. The prediction is trusted
-  // only once a tenth of the volume is done, and to at most 8 times what is held: a surface in the
-  // first slices of a deep volume must not reserve gigabytes.
+  // Room for `needed` numbers: doubling until a tenth of the volume is done, then what the share
+  // done predicts for the whole volume, with a margin, and at most 8 times what is held: a
+  // surface in the first slices of a deep volume must not reserve gigabytes.
   template <class Array>
   void grow(Array& array, std::size_t needed) {
     if (needed <= array.capacity()) return;
-    const double predicted = done_ >= 0.1 ? 1.1 * static_cast<double>(needed) / done_ : 0;
+    if (done_ < 0.1) {
+      array.reserve(2 * needed);
+      return;
+    }
+    // Predicted afresh at every growth, so that an early underestimate costs one more copy, not
+    // doubling after doubling.
+    const double predicted = 1.1 * static_cast<double>(needed) / done_;
     const double capped = std::min(predicted, 8.0 * static_cast<double>(needed));
-    array.reserve(std::max<std::size_t>(2 * needed, static_cast<std::size_t>(capped)));
+    array.reserve(std::max<std::size_t>(needed + needed / 8, static_cast<std::size_t>(capped)));
   }
 
   const WorldTransform& placement_;
