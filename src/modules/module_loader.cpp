@@ -109,7 +109,12 @@ void* load_module(const ModuleName& module, const char* version_symbol, int api_
   }
   void* handle = dlopen(found.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
-    *why_not = cannot + " from " + found + ": " + dl_error_text() + "; install " + module.install;
+    const std::string reason = dl_error_text();
+    // A library the module links is missing: say which to install. Any other reason (another
+    // architecture, a damaged file, permissions) is the dynamic loader's own.
+    const bool library_missing = reason.find("cannot open shared object file") != std::string::npos;
+    *why_not = cannot + " from " + found + ": " + reason +
+               (library_missing ? "; install " + std::string(module.install) : "");
     return nullptr;
   }
   // A module that fails a check stays loaded but unused (see the header on dlclose).

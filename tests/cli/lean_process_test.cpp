@@ -212,6 +212,20 @@ TEST(LeanProcessLinks, ASymbolicLinkToMvoxFindsTheModulesBesideTheRealFile) {
   EXPECT_TRUE(test::exists((dir.path() / "m.ply").string()));
 }
 
+// A module file that is there but damaged is reported with the dynamic loader's reason, not
+// as a library to install.
+TEST(LeanProcessLinks, ADamagedModuleIsOneLineWithTheLoadersReason) {
+  test::ScratchDirectory dir;
+  write_pgm_stack(dir);
+  test::write_bytes(dir.path() / "modules" / "libmvox_image_codecs.so",
+                    std::vector<unsigned char>{'n', 'o', 't', ' ', 'E', 'L', 'F'});
+  const test::CommandResult result =
+      run_mvox("extract pgm -t 100 -o m.ply -q", dir.path(), "MVOX_MODULE_PATH=modules");
+  test::expect_one_line_error(result, "pgm/s0.pgm");
+  EXPECT_NE(result.output.find("file too short"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find("install"), std::string::npos) << result.output;
+}
+
 // A picture name without an extension is refused for what it is, without loading OpenCV to
 // ask about it.
 TEST(LeanProcessLinks, APictureWithoutAnExtensionIsRefusedWithoutAnyModule) {
