@@ -30,22 +30,14 @@ const Api& api(const std::string& subject) {
   static Api loaded;
   const std::lock_guard<std::mutex> lock(mutex);
   if (loaded.decode != nullptr) return loaded;
-  std::string why_not;
-  void* handle = load_module(kImageCodecs, "mvox_image_codecs_api_version",
-                             MVOX_IMAGE_CODECS_API_VERSION, &why_not);
-  if (handle == nullptr) throw Error(subject, why_not);
+  void* handle = require_module(kImageCodecs, "mvox_image_codecs_api_version",
+                                MVOX_IMAGE_CODECS_API_VERSION, subject);
   Api functions;
-  functions.initialize = reinterpret_cast<decltype(functions.initialize)>(
-      module_symbol(handle, "mvox_image_codecs_initialize"));
-  functions.decode =
-      reinterpret_cast<decltype(functions.decode)>(module_symbol(handle, "mvox_image_decode"));
-  functions.can_write = reinterpret_cast<decltype(functions.can_write)>(
-      module_symbol(handle, "mvox_image_can_write"));
-  functions.encode =
-      reinterpret_cast<decltype(functions.encode)>(module_symbol(handle, "mvox_image_encode"));
-  if (functions.initialize == nullptr || functions.decode == nullptr ||
-      functions.can_write == nullptr || functions.encode == nullptr)
-    throw Error(subject, std::string("the ") + kImageCodecs.what + " lacks its functions");
+  resolve_function(handle, "mvox_image_codecs_initialize", &functions.initialize, kImageCodecs,
+                   subject);
+  resolve_function(handle, "mvox_image_decode", &functions.decode, kImageCodecs, subject);
+  resolve_function(handle, "mvox_image_can_write", &functions.can_write, kImageCodecs, subject);
+  resolve_function(handle, "mvox_image_encode", &functions.encode, kImageCodecs, subject);
   loaded = functions;
   return loaded;
 }

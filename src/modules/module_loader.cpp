@@ -8,6 +8,8 @@
 #include <map>
 #include <mutex>
 
+#include "error.h"
+
 namespace mvox {
 namespace {
 
@@ -135,6 +137,19 @@ void* load_module(const ModuleName& module, const char* version_symbol, int api_
 }
 
 void* module_symbol(void* handle, const char* symbol) { return dlsym(handle, symbol); }
+
+void* require_module(const ModuleName& module, const char* version_symbol, int api_version,
+                     const std::string& subject) {
+  std::string why_not;
+  void* handle = load_module(module, version_symbol, api_version, &why_not);
+  if (handle == nullptr) throw Error(subject, why_not);
+  return handle;
+}
+
+void throw_missing_function(const ModuleName& module, const char* symbol,
+                            const std::string& subject) {
+  throw Error(subject, std::string("the ") + module.what + " " + module.file + " lacks " + symbol);
+}
 
 std::vector<std::string> loaded_modules() {
   std::lock_guard<std::mutex> lock(g_mutex);

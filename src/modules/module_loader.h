@@ -44,6 +44,23 @@ void* load_module(const ModuleName& module, const char* version_symbol, int api_
 // The address of `symbol` in a module load_module() returned, or nullptr.
 void* module_symbol(void* handle, const char* symbol);
 
+// load_module() for a caller that reads `subject` (an input or an output): throws
+// mvox::Error(subject, reason) instead of returning nullptr.
+void* require_module(const ModuleName& module, const char* version_symbol, int api_version,
+                     const std::string& subject);
+
+[[noreturn]] void throw_missing_function(const ModuleName& module, const char* symbol,
+                                         const std::string& subject);
+
+// Sets *function to `symbol` in `handle`, a module require_module() loaded; throws
+// mvox::Error(subject, "the WHAT lacks SYMBOL") when the module has no such function.
+template <class Function>
+void resolve_function(void* handle, const char* symbol, Function** function,
+                      const ModuleName& module, const std::string& subject) {
+  *function = reinterpret_cast<Function*>(module_symbol(handle, symbol));
+  if (*function == nullptr) throw_missing_function(module, symbol, subject);
+}
+
 // The modules loaded so far, as the files they were loaded from, in the order of loading.
 std::vector<std::string> loaded_modules();
 

@@ -102,26 +102,10 @@ class AlignedArraysSink : public PolygonSink {
   }
 
   Status take_polygons(const Polygon* polygons, std::size_t polygon_count) {
-    std::size_t corners = 0;
-    for (std::size_t i = 0; i < polygon_count; ++i) corners += polygons[i].vertex_count;
-    const std::size_t first_index = mesh_.polygon_indices.size();
-    const std::size_t first_face = mesh_.polygon_offsets.size();
-    // Seven slots copied whole per polygon, the next one overwriting the unused: one polygon's
-    // slack, trimmed after.
-    grow(mesh_.polygon_indices, first_index + corners + kMaxPolygonVertices);
-    grow(mesh_.polygon_offsets, first_face + polygon_count);
-    mesh_.polygon_indices.resize(first_index + corners + kMaxPolygonVertices);
-    mesh_.polygon_offsets.resize(first_face + polygon_count);
-    std::int32_t* index = mesh_.polygon_indices.data() + first_index;
-    std::int64_t* offset = mesh_.polygon_offsets.data() + first_face;
-    std::int64_t at = static_cast<std::int64_t>(first_index);
-    for (std::size_t i = 0; i < polygon_count; ++i) {
-      std::memcpy(index, polygons[i].vertices, sizeof polygons[i].vertices);
-      index += polygons[i].vertex_count;
-      at += polygons[i].vertex_count;
-      *offset++ = at;
-    }
-    mesh_.polygon_indices.resize(first_index + corners);
+    const std::size_t corners = polygon_corners(polygons, polygon_count);
+    grow(mesh_.polygon_indices, mesh_.polygon_indices.size() + corners + kMaxPolygonVertices);
+    grow(mesh_.polygon_offsets, mesh_.polygon_offsets.size() + polygon_count);
+    append_polygons(mesh_, polygons, polygon_count, corners);
     return Status::ok;
   }
 

@@ -26,17 +26,12 @@ const Api& api(const std::string& subject) {
   static Api loaded;
   const std::lock_guard<std::mutex> lock(mutex);
   if (loaded.decode != nullptr) return loaded;
-  std::string why_not;
-  void* handle = load_module(kDicomCodecs, "mvox_dicom_codecs_api_version",
-                             MVOX_DICOM_CODECS_API_VERSION, &why_not);
-  if (handle == nullptr) throw Error(subject, why_not);
+  void* handle = require_module(kDicomCodecs, "mvox_dicom_codecs_api_version",
+                                MVOX_DICOM_CODECS_API_VERSION, subject);
   Api functions;
-  functions.decode = reinterpret_cast<decltype(functions.decode)>(
-      module_symbol(handle, "mvox_dicom_decode_frame"));
-  functions.syntax_name = reinterpret_cast<decltype(functions.syntax_name)>(
-      module_symbol(handle, "mvox_dicom_transfer_syntax_name"));
-  if (functions.decode == nullptr || functions.syntax_name == nullptr)
-    throw Error(subject, std::string("the ") + kDicomCodecs.what + " lacks its functions");
+  resolve_function(handle, "mvox_dicom_decode_frame", &functions.decode, kDicomCodecs, subject);
+  resolve_function(handle, "mvox_dicom_transfer_syntax_name", &functions.syntax_name, kDicomCodecs,
+                   subject);
   loaded = functions;
   return loaded;
 }

@@ -27,26 +27,34 @@ void MeshArraysWriter::write_vertices(const WorldVertex* vertices, std::size_t v
 
 void MeshArraysWriter::write_faces(const Polygon* faces, const FacePositions*,
                                    std::size_t face_count) {
+  append_polygons(arrays_, faces, face_count, polygon_corners(faces, face_count));
+}
+
+std::size_t polygon_corners(const Polygon* polygons, std::size_t count) {
   std::size_t corners = 0;
-  for (std::size_t i = 0; i < face_count; ++i) corners += faces[i].vertex_count;
-  const std::size_t first_index = arrays_.polygon_indices.size();
-  const std::size_t first_face = arrays_.polygon_offsets.size();
-  // Each face's seven index slots are copied whole, without a branch on its size, and the next
-  // face overwrites the unused ones: room for one face's slack, trimmed at the end.
-  arrays_.polygon_indices.resize(first_index + corners + kMaxPolygonVertices);
-  arrays_.polygon_offsets.resize(first_face + face_count);
-  std::int32_t* index = arrays_.polygon_indices.data() + first_index;
-  std::int64_t* offset = arrays_.polygon_offsets.data() + first_face;
+  for (std::size_t i = 0; i < count; ++i) corners += polygons[i].vertex_count;
+  return corners;
+}
+
+void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count,
+                     std::size_t corners) {
+  const std::size_t first_index = arrays.polygon_indices.size();
+  const std::size_t first_face = arrays.polygon_offsets.size();
+  arrays.polygon_indices.resize(first_index + corners + kMaxPolygonVertices);
+  arrays.polygon_offsets.resize(first_face + count);
+  std::int32_t* index = arrays.polygon_indices.data() + first_index;
+  std::int64_t* offset = arrays.polygon_offsets.data() + first_face;
   std::int64_t at = static_cast<std::int64_t>(first_index);
-  static_assert(sizeof(Polygon::vertices[0]) == sizeof(std::int32_t), "indices are copied as bytes");
-  for (std::size_t i = 0; i < face_count; ++i) {
-    const Polygon& face = faces[i];
-    std::memcpy(index, face.vertices, sizeof face.vertices);  // indices < 2^31 (kMaxVertexCount)
-    index += face.vertex_count;
-    at += face.vertex_count;
+  static_assert(sizeof(Polygon::vertices[0]) == sizeof(std::int32_t),
+                "indices are copied as bytes");
+  for (std::size_t i = 0; i < count; ++i) {
+    const Polygon& polygon = polygons[i];
+    std::memcpy(index, polygon.vertices, sizeof polygon.vertices);  // < 2^31 (kMaxVertexCount)
+    index += polygon.vertex_count;
+    at += polygon.vertex_count;
     *offset++ = at;
   }
-  arrays_.polygon_indices.resize(first_index + corners);
+  arrays.polygon_indices.resize(first_index + corners);
 }
 
 }  // namespace mvox
