@@ -15,7 +15,8 @@ namespace {
 struct Resolved {
   std::optional<int> descriptor;         // when it names an open descriptor
   std::optional<FileIdentity> identity;  // when the file exists (or the descriptor is open)
-  std::string canonical;                 // absolute, links and dots resolved where they exist
+  std::string canonical;                 // absolute, links and dots resolved where they exist;
+                                         // only for a path that does not exist (yet)
 };
 
 Resolved resolve(const std::string& path, int dash_descriptor) {
@@ -27,6 +28,9 @@ Resolved resolve(const std::string& path, int dash_descriptor) {
     return resolved;
   }
   resolved.identity = identity_of_path(path);
+  // An existing file is known by its identity; resolving every link of its path as well cost
+  // a readlink and a stat per component, for each of a stack's thousands of slices.
+  if (resolved.identity) return resolved;
   std::error_code error;
   const std::filesystem::path absolute = std::filesystem::absolute(path, error);
   if (!error) resolved.canonical = std::filesystem::weakly_canonical(absolute, error).string();
