@@ -176,6 +176,7 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
   state_ = nullptr;
   failure_ = Status::not_initialised;
   counters_ = EngineCounters();
+  first_slice_ = 0;
   Layout layout;
   if (!workspace || !sink || threshold != threshold ||
       !compute_layout(width, height, options, &layout))
@@ -476,7 +477,8 @@ namespace {
 // Vertices on the x- and y-edges of slice `z` (in `slot`), then on the z-edges between the slice
 // in the other slot (z - 1) and it. Column j of a padded row is voxel x = j - 1 (bit_rows.h).
 bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t height,
-                   bool with_slice_edges, Emitter& emitter, std::uint64_t first_index) {
+                   bool with_slice_edges, bool with_z_edges, Emitter& emitter,
+                   std::uint64_t first_index) {
   const std::uint32_t words = st.row_words;
   const std::uint64_t* rows = st.inner[slot];
   const std::uint64_t* below = st.inner[slot ^ 1];
@@ -509,6 +511,7 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
       return false;
     next_index += yp.count;
   }
+  if (!with_z_edges) return true;
 
   // z-edges between slice z - 1 (other slot) and slice z.
   return build_plane<false>(
@@ -920,7 +923,8 @@ bool emit_layer_polygons(const EngineState& st, int lo, int hi, std::uint32_t z,
 Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_slice) {
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
   Emitter emitter(st, counters_);
-  const bool ok = emit_vertices(st, hi, z, height_, real_slice, emitter, counters_.vertices) &&
+  const bool ok = emit_vertices(st, hi, z, height_, real_slice, true, emitter,
+                                counters_.vertices) &&
                   emitter.flush_vertices() &&
                   emit_layer_polygons(st, lo, hi, z, width_, height_, emitter) &&
                   emitter.flush_polygons();
@@ -935,10 +939,11 @@ Status Engine::push_slice(const SliceView& slice) {
       slice.row_stride_bytes < std::size_t{slice.width} * sample_bytes(slice.type))
     return Status::invalid_argument;
   if (slice.width != width_ || slice.height != height_) return Status::slice_size_mismatch;
-  if (counters_.slices >= 0xFFFFFFFFu) return Status::invalid_argument;
+  if (std::uint64_t{first_slice_} + counters_.slices >= 0xFFFFFFFFu)
+    return Status::invalid_argument;
 
   EngineState& st = *state_;
-  const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
+  const std::uint32_t z = next_slice();
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
   counters_.inner_voxels +=
       classify_slice(slice, st.thresholds, st.inner[hi], st.row_words, st.occupied[hi]);
@@ -957,13 +962,77 @@ Status Engine::finish() {
   EngineState& st = *state_;
   if (counters_.slices > 0) {
     // The layer between the last slice and the all-outer slice beyond it.
-    const std::uint32_t z = static_cast<std::uint32_t>(counters_.slices);
+    const std::uint32_t z = next_slice();
     const int hi = static_cast<int>(z & 1);
     std::memset(st.inner[hi], 0, std::size_t{height_} * st.row_words * sizeof(std::uint64_t));
     std::memset(st.occupied[hi], 0, height_);
     st.interpolation.clear(hi);
     if (const Status status = emit_layer(st, z, false); status != Status::ok) return fail(status);
   }
+  failure_ = Status::already_finished;
+  return Status::ok;
+}
+
+namespace {
+
+// Takes the previous slab's vertices that begin_slab() numbers but must not emit.
+class DiscardingSink final : public PolygonSink {
+ public:
+  Status consume_vertices(const Vertex*, std::size_t) override { return Status::ok; }
+  Status consume_polygons(const Polygon*, std::size_t) override { return Status::ok; }
+};
+
+// Stateless, so one serves every engine and thread; at namespace scope, so that it needs no
+// guard variable and no destructor registration.
+DiscardingSink discarding_sink;
+
+}  // namespace
+
+Status Engine::begin_slab(const SliceView& previous, std::uint32_t first_slice) {
+  if (failure_ != Status::ok) return failure_;
+  if (first_slice == 0 || counters_.slices != 0 || first_slice_ != 0 ||
+      counters_.vertices != 0)
+    return Status::invalid_argument;
+  const bool known_type = previous.type == SampleType::u8 || previous.type == SampleType::u16 ||
+                          previous.type == SampleType::i16 || previous.type == SampleType::f32;
+  if (!previous.samples || !known_type ||
+      previous.row_stride_bytes < std::size_t{previous.width} * sample_bytes(previous.type))
+    return Status::invalid_argument;
+  if (previous.width != width_ || previous.height != height_) return Status::slice_size_mismatch;
+
+  EngineState& st = *state_;
+  const std::uint32_t z = first_slice - 1;
+  const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
+  // The slot before `previous` stands for nothing: only the layer above `previous` is this
+  // slab's, and nothing below it is emitted.
+  std::memset(st.inner[lo], 0, std::size_t{height_} * st.row_words * sizeof(std::uint64_t));
+  std::memset(st.occupied[lo], 0, height_);
+  st.interpolation.clear(lo);
+  // Its voxels are the previous slab's to count: classified here, not added to the counters.
+  (void)classify_slice(previous, st.thresholds, st.inner[hi], st.row_words, st.occupied[hi]);
+  if (st.interpolate) st.interpolation.store(hi, previous);
+  if (st.options.kind == EngineKind::literal) {
+    st.literal.add_slice(st.inner[lo], st.inner[hi], st.row_words);
+    st.literal.advance();  // the layer below `previous` is the previous slab's
+  }
+
+  // Its x- and y-edge vertices numbered from 0 into the planes, sent nowhere.
+  PolygonSink* const sink = st.sink;
+  st.sink = &discarding_sink;
+  bool ok = false;
+  {
+    Emitter emitter(st, counters_);
+    ok = emit_vertices(st, hi, z, height_, true, false, emitter, 0) && emitter.flush_vertices();
+  }
+  st.sink = sink;
+  if (!ok) return fail(Status::vertex_index_overflow);
+  counters_.shared_vertices = counters_.vertices;
+  first_slice_ = first_slice;
+  return Status::ok;
+}
+
+Status Engine::finish_slab() {
+  if (failure_ != Status::ok) return failure_;
   failure_ = Status::already_finished;
   return Status::ok;
 }

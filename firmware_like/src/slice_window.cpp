@@ -19,6 +19,7 @@ Status SliceWindow::init(void* workspace, std::size_t workspace_bytes, std::uint
                          std::uint32_t height, SampleType type) {
   slots_ = nullptr;
   slices_ = 0;
+  first_ = 0;
   const std::size_t needed = slice_window_bytes(width, height, type);
   if (!workspace || needed == 0) return Status::invalid_argument;
   if (workspace_bytes < needed) return Status::workspace_too_small;
@@ -60,7 +61,7 @@ SliceView SliceWindow::slice(std::uint32_t z) const {
 }
 
 double SliceWindow::sample(std::int64_t x, std::int64_t y, std::int64_t z) const {
-  MVOX_ASSERT(slices_ > 0);
+  MVOX_ASSERT(slices_ > first_);
   const auto clamp = [](std::int64_t v, std::int64_t hi) { return v < 0 ? 0 : v > hi ? hi : v; };
   const auto cx = static_cast<std::uint32_t>(clamp(x, std::int64_t{width_} - 1));
   const auto cy = static_cast<std::uint32_t>(clamp(y, std::int64_t{height_} - 1));

@@ -56,6 +56,10 @@ struct EngineCounters {
   std::uint64_t polygons = 0;
   // index = vertex count (3..7; marching cubes emits only triangles)
   std::uint64_t polygons_by_size[kMaxPolygonVertices + 1] = {};
+  // An engine started by begin_slab(): the vertices of the slice before its first, numbered
+  // 0 .. shared_vertices - 1 but not emitted (the previous slab emits them). `vertices` counts
+  // them too, as it is the next vertex's index; the vertices emitted are the difference.
+  std::uint64_t shared_vertices = 0;
 };
 
 // Bytes of workspace an engine for slices of width x height needs with these options.
@@ -88,6 +92,28 @@ class Engine {
   // Closes the volume: the layer above the last slice (outside voxels are outer) is emitted.
   Status finish();
 
+  // Slab-parallel extraction: several engines each take a slab of consecutive slices of one
+  // volume, and their outputs, joined in slab order with their vertex indices moved, are the
+  // output of one engine over the whole volume.
+  //
+  // begin_slab(), right after init(), starts at slice `first_slice` > 0 of the volume:
+  // `previous` is slice first_slice - 1, the previous slab's last. Its x- and y-edge vertices
+  // are numbered 0 .. m - 1 (m = counters().shared_vertices) but not emitted, so that the
+  // polygons between it and the first slice can refer to them; the slab's own vertices are
+  // numbered from m on. Vertex z coordinates are the volume's slice numbers. In the joined
+  // output, local index i < m is the previous slab's vertex (index of the first vertex its last
+  // slice emitted) + i, and local index i >= m is (vertices before this slab) + i - m.
+  Status begin_slab(const SliceView& previous, std::uint32_t first_slice);
+
+  // Ends a slab that another slab follows: the layer above its last slice is left to the next
+  // slab's engine (whose `previous` slice that is), so nothing is emitted.
+  Status finish_slab();
+
+  // The volume's slice number of the next slice push_slice() takes.
+  std::uint32_t next_slice() const {
+    return first_slice_ + static_cast<std::uint32_t>(counters_.slices);
+  }
+
   const EngineCounters& counters() const { return counters_; }
   std::uint32_t width() const { return width_; }
   std::uint32_t height() const { return height_; }
@@ -102,6 +128,7 @@ class Engine {
   EngineCounters counters_;
   std::uint32_t width_ = 0;
   std::uint32_t height_ = 0;
+  std::uint32_t first_slice_ = 0;  // slice number of the first slice pushed (begin_slab)
 };
 
 }  // namespace mvox

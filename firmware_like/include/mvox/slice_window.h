@@ -33,13 +33,23 @@ class SliceWindow {
   Status init(void* workspace, std::size_t workspace_bytes, std::uint32_t width,
               std::uint32_t height, SampleType type);
 
+  // Empties the window and numbers the next slice pushed `first_slice`: for a slab of a larger
+  // volume (Engine::begin_slab), whose slices keep their numbers in the volume. init() starts
+  // at 0.
+  void restart_at(std::uint32_t first_slice) {
+    first_ = first_slice;
+    slices_ = first_slice;
+  }
+
   // Copies `slice` in as slice number slices(); the oldest slice held is dropped.
   Status push(const SliceView& slice);
 
-  // Slices pushed so far; the window holds slices max(0, slices() - 4) .. slices() - 1.
+  // The number the next slice pushed gets: the slices pushed so far, counted from the first
+  // one's number. The window holds slices max(first, slices() - 4) .. slices() - 1.
   std::uint32_t slices() const { return slices_; }
   bool holds(std::int64_t z) const {
-    return z >= 0 && z < std::int64_t{slices_} && z + kSliceWindowDepth >= slices_;
+    return z >= std::int64_t{first_} && z < std::int64_t{slices_} &&
+           z + kSliceWindowDepth >= slices_;
   }
 
   // A view of held slice `z` (holds(z) must be true); valid until that slot is overwritten,
@@ -65,6 +75,7 @@ class SliceWindow {
   std::uint32_t width_ = 0;
   std::uint32_t height_ = 0;
   std::uint32_t slices_ = 0;
+  std::uint32_t first_ = 0;  // number of the first slice pushed since init() or restart_at()
   SampleType type_ = SampleType::u8;
 };
 
