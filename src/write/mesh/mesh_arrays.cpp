@@ -17,7 +17,7 @@ void MeshArraysWriter::write_vertices(const WorldVertex* vertices, std::size_t v
   float* out = arrays_.vertices.data() + first;
   for (std::size_t i = 0; i < vertex_count; ++i, out += 3)
     for (int axis = 0; axis < 3; ++axis) out[axis] = vertices[i].position[axis];
-  if (options().normals == nullptr) return;
+  if (!options().writes_normals()) return;
   const std::size_t first_normal = arrays_.normals.size();
   arrays_.normals.resize(first_normal + 3 * vertex_count);
   float* normal = arrays_.normals.data() + first_normal;

@@ -56,23 +56,33 @@ Status MeshWriter::guarded(const char* batch, Body&& body) {
 }
 
 Status MeshWriter::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
+  return consume_vertices_with_normals(vertices, nullptr, vertex_count);
+}
+
+Status MeshWriter::consume_vertices_with_normals(const Vertex* vertices, const glm::vec3* normals,
+                                                 std::size_t vertex_count) {
   return guarded("vertices", [&] {
+    if (options_.normals_given && normals == nullptr && vertex_count > 0)
+      throw Error(subject(), "internal error: vertices arrived without their normals");
     if (vertex_count > kMaxVertexCount - vertex_count_) {
       throw Error(subject(), "more than " + std::to_string(kMaxVertexCount) +
                                  " vertices, which 32-bit signed indices cannot address");
     }
-    place_vertices(vertices, vertex_count);
+    place_vertices(vertices, options_.normals_given ? normals : nullptr, vertex_count);
     write_vertices(vertex_batch_.data(), vertex_count);
     vertex_count_ += vertex_count;
   });
 }
 
-void MeshWriter::place_vertices(const Vertex* vertices, std::size_t vertex_count) {
+void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,
+                                std::size_t vertex_count) {
   vertex_batch_.resize(vertex_count);
-  const bool with_normals = options_.normals != nullptr;
-  if (with_normals) {
+  const bool with_normals = options_.writes_normals();
+  const glm::vec3* computed = given;
+  if (options_.normals != nullptr) {
     normal_batch_.resize(vertex_count);
     options_.normals->compute(vertices, vertex_count, normal_batch_.data());
+    computed = normal_batch_.data();
   }
   for (std::size_t i = 0; i < vertex_count; ++i) {
     const Vertex& vertex = vertices[i];
@@ -92,7 +102,7 @@ void MeshWriter::place_vertices(const Vertex* vertices, std::size_t vertex_count
       // Identity axes keep the normal exactly as computed: renormalising would change it by an
       // ulp for nothing.
       const glm::vec3 normal =
-          axis_aligned_ ? normal_batch_[i] : world_normal(normal_matrix_, normal_batch_[i]);
+          axis_aligned_ ? computed[i] : world_normal(normal_matrix_, computed[i]);
       for (int axis = 0; axis < 3; ++axis) out.normal[axis] = normal[axis];
     }
   }

@@ -25,6 +25,11 @@ struct MeshWriterOptions {
   // with the transform: PLY nx, ny, nz, OBJ vn. STL has face normals only and refuses it. The
   // window behind it must hold the slices around each vertex batch as it arrives.
   const VertexNormals* normals = nullptr;
+  // Instead of `normals`: every vertex batch comes with its normals, computed by the caller
+  // (consume_vertices_with_normals). Slab-parallel extraction does this: each slab has a window
+  // of its own, so the normals are computed where the slab is extracted.
+  bool normals_given = false;
+  bool writes_normals() const { return normals != nullptr || normals_given; }
   // Split every polygon into triangles (polygon_triangulation.h); STL always does.
   bool triangulate = false;
   // Make the file durable before it appears (OutputFile's `sync`, --sync).
@@ -69,6 +74,10 @@ class MeshWriter : public PolygonSink {
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) final;
   Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) final;
   Status consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t polygon_count) final;
+  // consume_vertices() for a writer whose options have normals_given: `normals` holds each
+  // vertex's outward unit normal in the volume's axes, as VertexNormals computes it.
+  Status consume_vertices_with_normals(const Vertex* vertices, const glm::vec3* normals,
+                                       std::size_t vertex_count);
 
   // Completes and commits the file. Throws the remembered error of a refused batch, or any
   // error of its own; throws if called twice.
@@ -111,7 +120,8 @@ class MeshWriter : public PolygonSink {
  private:
   template <class Body>
   Status guarded(const char* batch, Body&& body);
-  void place_vertices(const Vertex* vertices, std::size_t vertex_count);
+  // `given`: the batch's normals when the caller computed them (normals_given), else null.
+  void place_vertices(const Vertex* vertices, const glm::vec3* given, std::size_t vertex_count);
   // Throws unless every polygon has 3 to kMaxPolygonVertices vertices, each already consumed.
   void check_polygons(const Polygon* polygons, std::size_t polygon_count) const;
   // Appends `polygon`'s faces (itself, or its triangles when `geometry` is given and the writer

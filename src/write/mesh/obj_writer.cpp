@@ -26,7 +26,7 @@ ObjWriter::ObjWriter(const std::string& path, const MeshWriterOptions& options)
 }
 
 void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_count) {
-  const bool with_normals = options().normals != nullptr;
+  const bool with_normals = options().writes_normals();
   for (std::size_t i = 0; i < vertex_count; ++i) {
     // "vn" and three floats of at most 15 characters each, twice.
     char lines[2 * (2 + 3 * 16 + 1)];
@@ -37,7 +37,7 @@ void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_c
 }
 
 void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
-  const bool with_normals = options().normals != nullptr;
+  const bool with_normals = options().writes_normals();
   for (std::size_t i = 0; i < face_count; ++i) {
     const Polygon& face = faces[i];
     // "f", then per vertex a space and "I" or "I//I", I of at most 10 digits, and the newline.

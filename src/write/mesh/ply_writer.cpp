@@ -25,7 +25,7 @@ std::string header_lines(PlyFormat format, const MeshWriterOptions& options,
   for (const std::string& comment : options.comments) text += "comment " + comment + "\n";
   text += "element vertex " + std::to_string(vertex_count) + "\n";
   text += "property float x\nproperty float y\nproperty float z\n";
-  if (options.normals) text += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (options.writes_normals()) text += "property float nx\nproperty float ny\nproperty float nz\n";
   text += "element face " + std::to_string(face_count) + "\n";
   text += "property list uchar int vertex_indices\n";
   return text;
@@ -64,7 +64,7 @@ void PlyWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_c
 template <class Sink>
 void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
                                   std::size_t vertex_count) {
-  const int fields = options().normals ? 6 : 3;
+  const int fields = options().writes_normals() ? 6 : 3;
   if (format_ == PlyFormat::ascii) {
     for (std::size_t i = 0; i < vertex_count; ++i) {
       const WorldVertex& vertex = vertices[i];

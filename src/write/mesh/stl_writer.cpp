@@ -13,7 +13,7 @@ namespace mvox {
 namespace {
 
 const MeshWriterOptions& without_vertex_normals(const MeshWriterOptions& options) {
-  if (options.normals)
+  if (options.writes_normals())
     throw Error("--normals", "STL has face normals only; write PLY or OBJ for vertex normals");
   return options;
 }
