@@ -16,6 +16,11 @@
 # 16-bit and float samples with byte swaps, a pipe, a file cut short and a pipe too long or too
 # short (the error must come at the same slice, with the same message), and PNG stacks. The
 # paper's datasets are added when DATASETS_DIR (default ../shared/datasets) holds them.
+#
+# AFTER_ARGS, when set, is added to every `extract` the second binary runs: the same binary on
+# both sides with AFTER_ARGS='--threads 3 --slab-slices 4' checks that slab-parallel runs write
+# what one thread writes, on every case.
+#   AFTER_ARGS='--threads 3 --slab-slices 4' scripts/compare_outputs.sh build/src/mvox build/src/mvox
 set -uo pipefail
 
 if [ $# -lt 2 ]; then
@@ -122,6 +127,14 @@ run_all() {
   done
 }
 run_all before "$before"
+if [ -n "${AFTER_ARGS:-}" ]; then
+  # A wrapper that adds the arguments to `extract` runs; messages still name the binary.
+  wrapper=$work/after_with_args
+  printf '#!/usr/bin/env bash\nif [ "$1" = extract ]; then exec "%s" "$@" %s; fi\nexec "%s" "$@"\n' \
+    "$after" "$AFTER_ARGS" "$after" > "$wrapper"
+  chmod +x "$wrapper"
+  after=$wrapper
+fi
 run_all after "$after"
 
 passed=0

@@ -1,8 +1,10 @@
 // mvox extract INPUT... -t D -o mesh.ply|.stl|.obj: the main job.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include "cli/cli_options.h"
 #include "cli/commands.h"
@@ -14,6 +16,7 @@
 #include "read/input_files.h"
 #include "read/input_format.h"
 #include "read/raw/raw_format.h"
+#include "write/buffered_writer.h"
 
 namespace mvox {
 namespace {
@@ -33,6 +36,8 @@ struct ExtractArguments {
   std::string max_memory;  // as given; empty: the default budget
   bool dry_run = false;
   bool sync = false;
+  unsigned threads = 0;  // 0: one per core
+  std::uint32_t slab_slices = 0;
 };
 
 // A threshold beyond what the samples can hold makes no voxel inner, or every voxel: an empty
@@ -114,6 +119,10 @@ void run_extract(const ExtractArguments& args) {
   }
   job.dry_run = args.dry_run;
   job.sync = args.sync;
+  job.slab_slices = args.slab_slices;
+  job.threads = args.threads > 0 ? args.threads : std::max(1u, std::thread::hardware_concurrency());
+  job.read_ahead = job.threads > 1;
+  BufferedWriter::allow_background_writes(job.threads > 1);
   run_mesh_job(*source, job);
 }
 
@@ -187,6 +196,20 @@ void add_extract_command(CLI::App& app) {
   command->add_flag("--sync", args->sync,
                     "Make every output durable (fsync) before it replaces its target, so that "
                     "a power loss right after cannot leave it empty; costs 5-20 ms a file");
+  command
+      ->add_option("--threads", args->threads,
+                   "Extracting threads (default: one per core). A mesh without a picture is cut "
+                   "into slabs of slices extracted in parallel, written as one thread writes "
+                   "it, byte for byte; volumes of one slab (about 8 Mi voxels), and pictures, "
+                   "use one engine and a reading thread. 1: one thread does everything")
+      ->check(CLI::Range(1u, 1024u));
+  // For tests and tuning: thin slabs put slab boundaries everywhere in a small volume.
+  command
+      ->add_option("--slab-slices", args->slab_slices,
+                   "Slices per slab with --threads above 1 (default: about 8 Mi voxels a slab; "
+                   "at least 4)")
+      ->check(CLI::Range(4u, 1u << 30))
+      ->group("");
   command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");
   command->callback([args] { run_extract(*args); });
 }

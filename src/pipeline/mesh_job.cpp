@@ -13,6 +13,7 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/prefetching_source.h"
 #include "pipeline/progress.h"
+#include "pipeline/slab_extraction.h"
 #include "pipeline/termination.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
@@ -104,6 +105,13 @@ void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& pla
 
 }  // namespace
 
+unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
+  if (job.threads <= 1 || job.output.empty() || job.picture.wanted()) return 1;
+  const std::uint64_t depth = source.info().depth;
+  const std::uint64_t per_slab = slab_slices_of(source.info(), job.slab_slices);
+  return (depth + per_slab - 1) / per_slab >= 2 ? job.threads : 1;
+}
+
 MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
                            const EngineOptions& engine) {
   const VolumeInfo& info = source.info();
@@ -111,11 +119,22 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   const bool picture = job.picture.wanted();
   MemoryPlan plan;
   plan.process_bytes = current_resident_bytes();
-  plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
-  plan.add("reader (slice and decoder buffers)", source.working_bytes());
-  plan.add("reading ahead (2 batches)", PrefetchingSource::buffer_bytes(info));
-  if (job.normals || (picture && job.picture.smooth))
-    plan.add("slice window (4 slices)", 4 * slice);
+  if (const unsigned threads = slab_threads(source, job); threads > 1) {
+    SlabOptions slabs;
+    slabs.threads = threads;
+    slabs.normals = job.normals;
+    plan.add(std::to_string(threads) +
+                 " slab workers (workspace, slices, window, recorded output)",
+             slab_pipeline_bytes(info, engine, slabs));
+    plan.add("reader (slice and decoder buffers)", source.working_bytes());
+  } else {
+    plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
+    plan.add("reader (slice and decoder buffers)", source.working_bytes());
+    if (job.read_ahead)
+      plan.add("reading ahead (2 batches)", PrefetchingSource::buffer_bytes(info));
+    if (job.normals || (picture && job.picture.smooth))
+      plan.add("slice window (4 slices)", 4 * slice);
+  }
   if (picture) {
     // The z-buffer, and an encoded picture or frame: at most about one byte a pixel for the
     // 8-bit picture, twice to allow for the encoder's own copy.
@@ -188,14 +207,16 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
 
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
+  const unsigned threads = slab_threads(source, job);
   std::optional<NormalWindow> normal_window;
-  if (job.normals || (want_picture && job.picture.smooth))
+  if (threads == 1 && (job.normals || (want_picture && job.picture.smooth)))
     normal_window.emplace(report.volume, placement.spacing, job.input_label);
   const VertexNormals* normals = normal_window ? &normal_window->normals() : nullptr;
   std::unique_ptr<MeshWriter> writer;
   if (want_mesh) {
     MeshWriterOptions mesh = job.mesh;
     mesh.normals = job.normals ? normals : nullptr;
+    mesh.normals_given = job.normals && threads > 1;  // each slab computes its own
     mesh.sync = mesh.sync || job.sync;
     writer = open_mesh_writer(job.output, job.format, mesh);
     // STL and --triangulate need each polygon's positions.
@@ -225,11 +246,24 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
         progress.update(done);
         if (picture) picture->after_slice(done);
       };
-    // Reading overlaps extraction from here on; the read time reported is the time spent
-    // waiting for a slice.
-    PrefetchingSource prefetched(source);
-    report.result = run_pipeline(prefetched, job.threshold, engine, sinks, job.input_label,
-                                 after_slice, [&] { return prefetched.seconds_waiting(); });
+    if (threads > 1) {
+      SlabOptions slabs;
+      slabs.threads = threads;
+      slabs.slab_slices = job.slab_slices;
+      slabs.normals = job.normals;
+      slabs.spacing = placement.spacing;
+      report.result = run_slab_pipeline(source, job.threshold, engine, *writer, slabs,
+                                        job.input_label, after_slice);
+    } else if (!job.read_ahead) {
+      report.result =
+          run_pipeline(source, job.threshold, engine, sinks, job.input_label, after_slice);
+    } else {
+      // Reading overlaps extraction from here on; the read time reported is the time spent
+      // waiting for a slice.
+      PrefetchingSource prefetched(source);
+      report.result = run_pipeline(prefetched, job.threshold, engine, sinks, job.input_label,
+                                   after_slice, [&] { return prefetched.seconds_waiting(); });
+    }
   }
   if (picture) {
     // Frames and the window's updates happened between slices: rendering, not extraction.

@@ -28,6 +28,14 @@ struct MeshJob {
   // picture's own `sync` too.
   bool sync = false;
   bool quiet = false;        // no progress line, no summary
+  // Extracting threads (--threads): above 1, a mesh without a picture is extracted in slabs,
+  // in parallel (slab_extraction.h), with the same bytes as one thread. 1: one engine.
+  unsigned threads = 1;
+  // With one engine, a reading thread fills the next slices while the engine works
+  // (prefetching_source.h). Off, the whole run takes one thread: --threads 1, for single-core
+  // devices.
+  bool read_ahead = true;
+  std::uint32_t slab_slices = 0;  // slices per slab (--slab-slices); 0: default_slab_slices()
   double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
   // Every file the source reads: no output may replace one (output_targets.h).
   std::vector<std::string> input_files;
@@ -50,6 +58,10 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job);
 // `engine` as the job will run it (polygon_geometry set when a sink needs it).
 MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
                            const EngineOptions& engine);
+
+// The extracting threads the job will run `source` with: job.threads when the volume has at least
+// two slabs and the job writes a mesh and no picture (the picture is drawn by one engine), else 1.
+unsigned slab_threads(const SliceSource& source, const MeshJob& job);
 
 // "123,456": large counts are easier to read with separators.
 std::string grouped(std::uint64_t value);

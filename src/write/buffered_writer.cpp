@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <condition_variable>
 #include <mutex>
@@ -38,6 +39,14 @@ struct BufferedWriter::Background {
   }
 };
 
+namespace {
+std::atomic<bool> background_writes_allowed{true};
+}  // namespace
+
+void BufferedWriter::allow_background_writes(bool allowed) {
+  background_writes_allowed.store(allowed, std::memory_order_relaxed);
+}
+
 BufferedWriter::BufferedWriter() : buffer_(new char[kBufferBytes]) {}
 
 BufferedWriter::~BufferedWriter() {
@@ -66,6 +75,11 @@ int BufferedWriter::wait_for_background() {
 
 int BufferedWriter::hand_off() {
   if (used_ == 0) return wait_for_background();
+  if (!background_ && !background_writes_allowed.load(std::memory_order_relaxed)) {
+    const int error = write_fully(fd_, buffer_.get(), used_);
+    used_ = 0;
+    return error;
+  }
   if (!background_) {
     try {
       auto background = std::make_unique<Background>();

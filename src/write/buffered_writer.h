@@ -21,6 +21,11 @@ class BufferedWriter {
   // Large enough that write(2) calls cost nothing next to formatting; allocated once.
   static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
 
+  // Process-wide: whether full buffers may be written by a thread of their own (the default).
+  // Off, every writer writes on its caller's thread: `mvox extract --threads 1`, so that a run
+  // on a single-core device takes one thread.
+  static void allow_background_writes(bool allowed);
+
   BufferedWriter();
   ~BufferedWriter();  // waits for a background write in progress; buffered bytes are dropped
   BufferedWriter(const BufferedWriter&) = delete;

@@ -110,8 +110,12 @@ const std::string kVolume = "extract volume.raw --raw 1024x1024x6:u16le -t 50000
 // What the plan promises is what the run takes: never more (the plan is an upper bound, so a
 // budget holds), and not grossly less (so the plan is worth reading). Slices of 2 MiB dominate.
 TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
-  for (const std::string outputs : {" -o mesh.ply", " -o mesh.ply --image picture.png",
-                                    " -o mesh.stl", " -o mesh.obj --normals"}) {
+  // The last two cut the 6 slices into two slabs extracted by two and three threads: the plan
+  // then counts each worker's slices, workspace and recorded output.
+  for (const std::string outputs :
+       {" -o mesh.ply", " -o mesh.ply --image picture.png", " -o mesh.stl",
+        " -o mesh.obj --normals", " -o mesh.ply --threads 2 --slab-slices 4",
+        " -o mesh.obj --normals --threads 3 --slab-slices 4"}) {
     SCOPED_TRACE(outputs);
     const auto result = run_mvox(kVolume + outputs + " --stats report.json -q", dir_.path());
     ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -121,8 +125,11 @@ TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
     ASSERT_GT(planned, 0) << json;
     EXPECT_LE(measured, planned * 1.02 + (1 << 20)) << json;
     EXPECT_GE(measured, planned * 0.6) << json;
-    EXPECT_NE(json.find("\"memory_plan\": {\"parts\": [{\"name\": \"engine workspace\""),
-              std::string::npos);
+    const bool slabs = outputs.find("--threads") != std::string::npos;
+    EXPECT_NE(json.find(slabs ? " slab workers (workspace, slices, window, recorded output)"
+                              : "\"memory_plan\": {\"parts\": [{\"name\": \"engine workspace\""),
+              std::string::npos)
+        << json;
   }
 }
 

@@ -1,0 +1,353 @@
+#include "pipeline/slab_extraction.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "error.h"
+#include "mvox/slice_window.h"
+#include "mvox/workspace_buffer.h"
+#include "picture/normal_window.h"
+#include "pipeline/blocking_queue.h"
+#include "pipeline/slab_recorder.h"
+#include "write/mesh/mesh_writer.h"
+
+namespace mvox {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Which slices each slab takes: its own [first, end), the slice before it (the previous slab's
+// last, for begin_slab) and, with normals, one more on each side for its window.
+struct SlabCuts {
+  std::uint32_t depth = 0;
+  std::uint32_t slab_slices = 1;
+  std::uint32_t extra = 0;  // 1 with normals
+
+  std::uint32_t count() const { return (depth + slab_slices - 1) / slab_slices; }
+  std::uint32_t first(std::uint32_t slab) const { return slab * slab_slices; }
+  std::uint32_t end(std::uint32_t slab) const {
+    return std::min(depth, first(slab) + slab_slices);
+  }
+  // The slices slab `slab` reads: [needed_from, needed_to).
+  std::uint32_t needed_from(std::uint32_t slab) const {
+    const std::uint32_t f = first(slab);
+    return f == 0 ? 0 : f - std::min(f, 1 + extra);
+  }
+  std::uint32_t needed_to(std::uint32_t slab) const {
+    return std::min(depth, end(slab) + extra);
+  }
+};
+
+struct SliceItem {
+  std::uint32_t z = 0;
+  std::vector<unsigned char>* samples = nullptr;
+};
+
+struct Worker final : SlabRecorder::Handover {
+  Worker(const Cancellation& cancellation, std::size_t slice_bytes, std::size_t workspace_bytes,
+         const EngineOptions& engine, bool with_normals)
+      : slices(cancellation),
+        free_slices(cancellation),
+        full_chunks(cancellation),
+        free_chunks(cancellation),
+        slice_storage(kSlicesPerWorker, std::vector<unsigned char>(slice_bytes)),
+        chunk_storage(kChunksPerWorker),
+        workspace(workspace_bytes) {
+    for (auto& samples : slice_storage) free_slices.push(&samples);
+    for (auto& chunk : chunk_storage) {
+      chunk.reserve(engine, with_normals);
+      free_chunks.push(&chunk);
+    }
+  }
+
+  SlabChunk* take() override { return free_chunks.pop().value_or(nullptr); }
+  void full(SlabChunk* chunk) override { full_chunks.push(chunk); }
+
+  void wake() {
+    slices.wake();
+    free_slices.wake();
+    full_chunks.wake();
+    free_chunks.wake();
+  }
+
+  BlockingQueue<SliceItem> slices;  // from the reader, in increasing z
+  BlockingQueue<std::vector<unsigned char>*> free_slices;
+  BlockingQueue<SlabChunk*> full_chunks;  // to the writer, in order
+  BlockingQueue<SlabChunk*> free_chunks;
+  std::vector<std::vector<unsigned char>> slice_storage;
+  std::vector<SlabChunk> chunk_storage;
+  WorkspaceBuffer workspace;
+  std::optional<NormalWindow> normals;
+  std::thread thread;
+};
+
+// The first failure of any thread, and the cancellation that stops the others.
+class RunFailure {
+ public:
+  explicit RunFailure(std::vector<std::unique_ptr<Worker>>& workers) : workers_(workers) {}
+  const Cancellation& cancellation() const { return cancellation_; }
+
+  void fail(std::exception_ptr error) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!first_) first_ = error;
+    }
+    cancel();
+  }
+  void cancel() {
+    cancellation_.cancel();
+    for (auto& worker : workers_) worker->wake();
+  }
+  void rethrow() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (first_) std::rethrow_exception(first_);
+  }
+
+ private:
+  std::vector<std::unique_ptr<Worker>>& workers_;
+  Cancellation cancellation_;
+  std::mutex mutex_;
+  std::exception_ptr first_;
+};
+
+SliceView packed_view(const VolumeInfo& info, const std::vector<unsigned char>& samples) {
+  SliceView view;
+  view.samples = samples.data();
+  view.width = info.width;
+  view.height = info.height;
+  view.row_stride_bytes = std::size_t{info.width} * sample_bytes(info.type);
+  view.type = info.type;
+  return view;
+}
+
+void copy_slice(const SliceView& from, std::vector<unsigned char>& to) {
+  const std::size_t row_bytes = std::size_t{from.width} * sample_bytes(from.type);
+  const auto* source = static_cast<const unsigned char*>(from.samples);
+  if (from.row_stride_bytes == row_bytes) {
+    std::memcpy(to.data(), source, row_bytes * from.height);
+    return;
+  }
+  for (std::uint32_t y = 0; y < from.height; ++y)
+    std::memcpy(to.data() + y * row_bytes, source + y * from.row_stride_bytes, row_bytes);
+}
+
+// Reads every slice once and gives it to each slab that needs it, in slab order.
+void read_slices(SliceSource& source, const SlabCuts& cuts,
+                 std::vector<std::unique_ptr<Worker>>& workers, const std::string& input_label,
+                 double* read_seconds) {
+  const auto threads = static_cast<std::uint32_t>(workers.size());
+  for (std::uint32_t z = 0; z < cuts.depth; ++z) {
+    SliceView view;
+    const auto start = Clock::now();
+    const bool more = source.next_slice(&view);
+    *read_seconds += seconds_since(start);
+    if (!more)
+      throw Error(input_label, "ended after " + std::to_string(z) + " of its " +
+                                   std::to_string(cuts.depth) + " slices");
+    const std::uint32_t own = z / cuts.slab_slices;
+    for (std::uint32_t slab = own == 0 ? 0 : own - 1; slab <= own + 1 && slab < cuts.count();
+         ++slab) {
+      if (z < cuts.needed_from(slab) || z >= cuts.needed_to(slab)) continue;
+      Worker& worker = *workers[slab % threads];
+      const std::optional<std::vector<unsigned char>*> samples = worker.free_slices.pop();
+      if (!samples) return;  // cancelled
+      copy_slice(view, **samples);
+      worker.slices.push({z, *samples});
+    }
+  }
+  SliceView extra;
+  if (source.next_slice(&extra))
+    throw Error(input_label, "has more slices than the " + std::to_string(cuts.depth) +
+                                 " its header gives");
+}
+
+// Runs the engine over every slab this worker takes: slabs w, w + threads, ...
+void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
+                   const SlabCuts& cuts, const VolumeInfo& info, double threshold,
+                   const EngineOptions& options, const Cancellation& cancellation,
+                   const std::string& input_label) {
+  const VertexNormals* normals = worker.normals ? &worker.normals->normals() : nullptr;
+  SlabRecorder recorder(worker, normals, options.polygon_geometry);
+  auto check = [&](Status status) {
+    if (status == Status::ok) return true;
+    if (cancellation.cancelled()) return false;  // the recorder found the run cancelled
+    throw Error(input_label, std::string("extraction failed: ") + status_message(status));
+  };
+  for (std::uint32_t slab = index; slab < cuts.count(); slab += threads) {
+    const std::uint32_t first = cuts.first(slab), end = cuts.end(slab);
+    const std::uint32_t from = cuts.needed_from(slab), to = cuts.needed_to(slab);
+    Engine engine;
+    if (!check(engine.init(worker.workspace.data(), worker.workspace.bytes(), info.width,
+                           info.height, threshold, options, &recorder)))
+      return;
+    if (first == 0 && !recorder.start(0)) return;
+    std::uint64_t last_slice_first_vertex = 0;
+    // The engine's part of slice z: the slice before the slab starts it, the slab's own are
+    // pushed, the window's extra ones are only for normals.
+    auto take = [&](std::uint32_t z, const SliceView& view) {
+      if (first > 0 && z + 1 == first) {
+        return check(engine.begin_slab(view, first)) &&
+               recorder.start(engine.counters().shared_vertices);
+      }
+      if (z < first || z >= end) return true;
+      last_slice_first_vertex = engine.counters().vertices;
+      return check(engine.push_slice(view));
+    };
+    SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
+    if (window) window->restart_at(from);
+    for (std::uint32_t z = from; z < to; ++z) {
+      const std::optional<SliceItem> item = worker.slices.pop();
+      if (!item) return;
+      if (item->z != z) throw Error(input_label, "internal error: slices out of order");
+      const SliceView view = packed_view(info, *item->samples);
+      bool ok = true;
+      if (window) {
+        // As stream_volume() does: the engine one slice behind the window, so that the window
+        // holds z - 2 .. z + 1 while the engine emits slice z's vertices.
+        if (!check(window->push(view))) return;
+        if (z > from) ok = take(z - 1, window->slice(z - 1));
+      } else {
+        ok = take(z, view);
+      }
+      worker.free_slices.push(item->samples);
+      if (!ok) return;
+    }
+    if (window && !take(to - 1, window->slice(to - 1))) return;
+    if (!check(end == cuts.depth ? engine.finish() : engine.finish_slab())) return;
+    recorder.end({engine.counters(), last_slice_first_vertex});
+  }
+}
+
+}  // namespace
+
+std::uint32_t default_slab_slices(const VolumeInfo& volume) {
+  const std::uint64_t pixels = std::max<std::uint64_t>(1, std::uint64_t{volume.width} * volume.height);
+  const std::uint64_t slices = (std::uint64_t{8} << 20) / pixels;
+  return static_cast<std::uint32_t>(std::clamp<std::uint64_t>(slices, 4, 1u << 20));
+}
+
+std::uint32_t slab_slices_of(const VolumeInfo& volume, std::uint32_t requested) {
+  return requested == 0 ? default_slab_slices(volume) : std::max<std::uint32_t>(4, requested);
+}
+
+std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
+                                  const SlabOptions& options) {
+  const std::uint64_t slice = std::uint64_t{volume.width} * volume.height * sample_bytes(volume.type);
+  const std::uint64_t per_worker =
+      engine_workspace_bytes(volume.width, volume.height, engine) + kSlicesPerWorker * slice +
+      (options.normals ? kSliceWindowDepth * slice : 0) +
+      kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.normals);
+  return per_worker * options.threads;
+}
+
+PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
+                                 const EngineOptions& engine, MeshWriter& mesh,
+                                 const SlabOptions& options, const std::string& input_label,
+                                 const ProgressCallback& progress) {
+  const VolumeInfo& info = source.info();
+  PipelineResult result;
+  result.workspace_bytes = engine_workspace_bytes(info.width, info.height, engine);
+  if (result.workspace_bytes == 0)
+    throw Error(input_label, "slices of " + std::to_string(info.width) + "x" +
+                                 std::to_string(info.height) + " voxels are too large to extract");
+  SlabCuts cuts;
+  cuts.depth = info.depth;
+  cuts.slab_slices = slab_slices_of(info, options.slab_slices);
+  cuts.extra = options.normals ? 1 : 0;
+  const std::uint32_t threads = std::max(1u, options.threads);
+  const std::size_t slice_bytes =
+      std::size_t{info.width} * info.height * sample_bytes(info.type);
+
+  std::vector<std::unique_ptr<Worker>> workers;
+  RunFailure failure(workers);
+  for (std::uint32_t w = 0; w < threads; ++w) {
+    workers.push_back(
+        std::make_unique<Worker>(failure.cancellation(), slice_bytes,
+                                               result.workspace_bytes, engine, options.normals));
+    if (options.normals) workers.back()->normals.emplace(info, options.spacing, input_label);
+  }
+
+  const auto start = Clock::now();
+  double read_seconds = 0;
+  std::thread reader;
+  auto join_all = [&] {
+    if (reader.joinable()) reader.join();
+    for (auto& worker : workers)
+      if (worker->thread.joinable()) worker->thread.join();
+  };
+  try {
+    for (std::uint32_t w = 0; w < threads; ++w)
+      workers[w]->thread = std::thread([&, w] {
+        try {
+          extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine,
+                        failure.cancellation(), input_label);
+        } catch (...) {
+          failure.fail(std::current_exception());
+        }
+      });
+    reader = std::thread([&] {
+      try {
+        read_slices(source, cuts, workers, input_label, &read_seconds);
+      } catch (...) {
+        failure.fail(std::current_exception());
+      }
+    });
+  } catch (const std::system_error& error) {
+    failure.cancel();
+    join_all();
+    throw Error(input_label, std::string("cannot start the slab threads: ") + error.what());
+  }
+
+  // This thread writes: the slabs' chunks in slab order, as they come.
+  SlabReplay replay(mesh);
+  double write_seconds = 0;
+  try {
+    for (std::uint32_t slab = 0; slab < cuts.count() && result.status == Status::ok; ++slab) {
+      Worker& worker = *workers[slab % threads];
+      for (;;) {
+        const std::optional<SlabChunk*> chunk = worker.full_chunks.pop();
+        if (!chunk) break;
+        const auto write_start = Clock::now();
+        result.status = replay.replay(**chunk);
+        write_seconds += seconds_since(write_start);
+        const bool last = (*chunk)->last;
+        (*chunk)->clear();
+        worker.free_chunks.push(*chunk);
+        if (result.status != Status::ok) {
+          failure.cancel();
+          break;
+        }
+        if (last) {
+          if (progress) progress(cuts.end(slab));
+          break;
+        }
+      }
+      if (failure.cancellation().cancelled()) break;
+    }
+  } catch (...) {
+    failure.fail(std::current_exception());
+  }
+  join_all();
+  failure.rethrow();
+
+  result.counters = replay.counters();
+  result.times.total_s = seconds_since(start);
+  result.times.read_s = read_seconds;
+  result.times.write_s = write_seconds;
+  result.times.extract_s = result.times.total_s - write_seconds;
+  return result;
+}
+
+}  // namespace mvox

@@ -1,0 +1,61 @@
+#pragma once
+// Slab-parallel extraction: the volume is cut into slabs of consecutive slices, worker threads
+// each run an engine over one slab at a time (Engine::begin_slab), and the calling thread
+// replays the slabs' output in order into the mesh writer, so that the mesh is the one a single
+// engine writes, byte for byte, for any number of workers.
+//
+// Threads: one reads the source and hands each slice to the workers whose slabs need it (a
+// slab also needs the slice before it, and with normals one more on each side); `threads`
+// workers extract; the caller writes. A worker records what its engine emits in chunks of about
+// half a MiB (slab_recorder.h) and hands them to the writer, which takes them slab by slab.
+//
+// Memory is fixed, whatever the depth: per worker an engine workspace, a slice window when
+// normals are wanted, kSlicesPerWorker slice buffers and kChunksPerWorker chunks; a worker
+// whose chunks are all waiting for the writer waits too. slab_pipeline_bytes() says how much.
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "mvox/engine.h"
+#include "mvox/slice_source.h"
+#include "pipeline/pipeline.h"
+
+namespace mvox {
+
+class MeshWriter;
+
+struct SlabOptions {
+  unsigned threads = 2;            // extracting workers, >= 1
+  std::uint32_t slab_slices = 0;   // slices per slab; 0: default_slab_slices()
+  // Gradient normals, computed in each slab (the writer must have normals_given) with the voxel
+  // size the mesh is written with.
+  bool normals = false;
+  std::array<double, 3> spacing = {1, 1, 1};
+};
+
+constexpr unsigned kSlicesPerWorker = 4;
+constexpr unsigned kChunksPerWorker = 3;
+
+// Slices per slab for slices of this size: about 8 Mi voxels a slab, so that a slab's fixed
+// cost (its first slice is classified twice) stays small, and at least 4 slices.
+std::uint32_t default_slab_slices(const VolumeInfo& volume);
+// The slices per slab a run takes: `requested` (at least 4) or, for 0, the default.
+std::uint32_t slab_slices_of(const VolumeInfo& volume, std::uint32_t requested);
+
+// The memory the slab pipeline adds for `threads` workers: their workspaces, windows, slice
+// buffers and chunks (SlabChunk::reserved_bytes each).
+std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
+                                  const SlabOptions& options);
+
+// Extracts every slice of `source` into `mesh` as run_pipeline() does with one engine, with the
+// same result (counters summed over the slabs). Phase times overlap here: read_s is the reading
+// thread's time inside the source, write_s the caller's time inside the writer, extract_s the
+// rest of the wall time. Throws mvox::Error naming `input_label` for an engine error, a source
+// that ends before its depth, or whatever the source throws; the writer's own error is left in
+// the writer (status sink_refused), as run_pipeline() leaves it.
+PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
+                                 const EngineOptions& engine, MeshWriter& mesh,
+                                 const SlabOptions& options, const std::string& input_label,
+                                 const ProgressCallback& progress = {});
+
+}  // namespace mvox

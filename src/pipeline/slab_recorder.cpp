@@ -1,0 +1,161 @@
+#include "pipeline/slab_recorder.h"
+
+#include "write/mesh/mesh_writer.h"
+
+namespace mvox {
+
+void SlabChunk::clear() {
+  calls.clear();
+  vertices.clear();
+  normals.clear();
+  polygons.clear();
+  geometry.clear();
+  first = false;
+  shared_vertices = 0;
+  last = false;
+  summary = SlabSummary();
+}
+
+namespace {
+
+// Room for kChunkBytes of T and one batch more.
+template <class T>
+std::size_t capacity_for(std::uint32_t batch) {
+  return SlabRecorder::kChunkBytes / sizeof(T) + batch;
+}
+
+}  // namespace
+
+void SlabChunk::reserve(const EngineOptions& engine, bool with_normals) {
+  vertices.reserve(capacity_for<Vertex>(engine.vertices_per_batch));
+  if (with_normals) normals.reserve(capacity_for<glm::vec3>(engine.vertices_per_batch));
+  polygons.reserve(capacity_for<Polygon>(engine.polygons_per_batch));
+  if (engine.polygon_geometry)
+    geometry.reserve(capacity_for<PolygonGeometry>(engine.polygons_per_batch));
+}
+
+std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine, bool with_normals) {
+  std::size_t bytes = capacity_for<Vertex>(engine.vertices_per_batch) * sizeof(Vertex) +
+                      capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
+  if (with_normals)
+    bytes += capacity_for<glm::vec3>(engine.vertices_per_batch) * sizeof(glm::vec3);
+  if (engine.polygon_geometry)
+    bytes += capacity_for<PolygonGeometry>(engine.polygons_per_batch) * sizeof(PolygonGeometry);
+  return bytes;
+}
+
+bool SlabRecorder::start(std::uint64_t shared_vertices) {
+  chunk_ = handover_.take();
+  if (!chunk_) return false;
+  chunk_->first = true;
+  chunk_->shared_vertices = shared_vertices;
+  return true;
+}
+
+void SlabRecorder::end(const SlabSummary& summary) {
+  chunk_->last = true;
+  chunk_->summary = summary;
+  handover_.full(chunk_);
+  chunk_ = nullptr;
+}
+
+bool SlabRecorder::after_call() {
+  if (chunk_->bytes() < kChunkBytes) return true;
+  handover_.full(chunk_);
+  chunk_ = handover_.take();
+  return chunk_ != nullptr;
+}
+
+// The engine is built without exceptions: a failed allocation here must not unwind through it,
+// so every call catches and refuses (the worker then reports the engine's sink_refused).
+Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count) {
+  try {
+    chunk_->calls.push_back({SlabChunk::Kind::vertices, static_cast<std::uint32_t>(count)});
+    chunk_->vertices.insert(chunk_->vertices.end(), vertices, vertices + count);
+    if (normals_) {
+      const std::size_t first = chunk_->normals.size();
+      chunk_->normals.resize(first + count);
+      normals_->compute(vertices, count, chunk_->normals.data() + first);
+    }
+    return after_call() ? Status::ok : Status::sink_refused;
+  } catch (...) {
+    return Status::sink_refused;
+  }
+}
+
+Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count) {
+  try {
+    chunk_->calls.push_back({SlabChunk::Kind::polygons, static_cast<std::uint32_t>(count)});
+    chunk_->polygons.insert(chunk_->polygons.end(), polygons, polygons + count);
+    // A geometry batch follows at once when the engine sends one: the chunk is handed on after
+    // it, so that the pair stays in one chunk. Otherwise now: a layer of cubes can send many
+    // polygon batches with no vertex batch between them.
+    if (geometry_follows_) return Status::ok;
+    return after_call() ? Status::ok : Status::sink_refused;
+  } catch (...) {
+    return Status::sink_refused;
+  }
+}
+
+Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) {
+  try {
+    chunk_->calls.push_back({SlabChunk::Kind::geometry, static_cast<std::uint32_t>(count)});
+    chunk_->geometry.insert(chunk_->geometry.end(), polygons, polygons + count);
+    return after_call() ? Status::ok : Status::sink_refused;
+  } catch (...) {
+    return Status::sink_refused;
+  }
+}
+
+Status SlabReplay::replay(const SlabChunk& chunk) {
+  if (chunk.first) shared_ = chunk.shared_vertices;
+  std::size_t vertex_at = 0, polygon_at = 0, geometry_at = 0;
+  for (const SlabChunk::Call& call : chunk.calls) {
+    Status status = Status::ok;
+    switch (call.kind) {
+      case SlabChunk::Kind::vertices:
+        status = mesh_.consume_vertices_with_normals(
+            chunk.vertices.data() + vertex_at,
+            chunk.normals.empty() ? nullptr : chunk.normals.data() + vertex_at, call.count);
+        vertex_at += call.count;
+        break;
+      case SlabChunk::Kind::polygons: {
+        moved_.assign(chunk.polygons.begin() + static_cast<std::ptrdiff_t>(polygon_at),
+                      chunk.polygons.begin() + static_cast<std::ptrdiff_t>(polygon_at + call.count));
+        // Local index i < shared: the previous slab's last slice's vertex shared_base + i;
+        // any other: this slab's own vertex slab_base + i - shared.
+        const std::uint64_t own = slab_base_ - shared_;
+        for (Polygon& polygon : moved_)
+          for (int k = 0; k < polygon.vertex_count; ++k) {
+            const std::uint64_t local = polygon.vertices[k];
+            polygon.vertices[k] =
+                static_cast<std::uint32_t>(local < shared_ ? shared_base_ + local : own + local);
+          }
+        status = mesh_.consume_polygons(moved_.data(), moved_.size());
+        polygon_at += call.count;
+        break;
+      }
+      case SlabChunk::Kind::geometry:
+        status = mesh_.consume_polygon_geometry(chunk.geometry.data() + geometry_at, call.count);
+        geometry_at += call.count;
+        break;
+    }
+    if (status != Status::ok) return status;
+  }
+  if (chunk.last) {
+    const EngineCounters& c = chunk.summary.counters;
+    const std::uint64_t emitted = c.vertices - c.shared_vertices;
+    shared_base_ = slab_base_ + chunk.summary.last_slice_first_vertex - c.shared_vertices;
+    slab_base_ += emitted;
+    counters_.slices += c.slices;
+    counters_.inner_voxels += c.inner_voxels;
+    counters_.vertices += emitted;
+    counters_.polygons += c.polygons;
+    for (int size = 0; size <= kMaxPolygonVertices; ++size)
+      counters_.polygons_by_size[size] += c.polygons_by_size[size];
+    shared_ = 0;
+  }
+  return Status::ok;
+}
+
+}  // namespace mvox

@@ -1,0 +1,123 @@
+#pragma once
+// What a slab's engine emits, kept in order so that it can be replayed later into the real sinks
+// with the vertex indices moved (Engine::begin_slab): the slab-parallel pipeline's unit of
+// hand-over between a worker and the thread that writes (slab_extraction.h).
+//
+// A chunk keeps the engine's calls exactly as they came, batch by batch, so that a sink fed by
+// the replay sees the same sequence of calls, of the same sizes, as one engine over the whole
+// volume would make: any sink (OBJ interleaves "v" and "f" lines as batches come) then writes
+// the same bytes.
+#include <cstddef>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "mvox/engine.h"
+#include "mvox/polygon_sink.h"
+#include "mvox/vertex_normals.h"
+
+namespace mvox {
+
+class MeshWriter;
+
+// How a slab ended, carried by its last chunk.
+struct SlabSummary {
+  EngineCounters counters;
+  // Local index of the first vertex the slab's last slice emitted: the next slab's shared
+  // vertices start there (Engine::begin_slab).
+  std::uint64_t last_slice_first_vertex = 0;
+};
+
+struct SlabChunk {
+  enum class Kind : std::uint8_t { vertices, polygons, geometry };
+  struct Call {
+    Kind kind;
+    std::uint32_t count;
+  };
+  std::vector<Call> calls;
+  std::vector<Vertex> vertices;
+  std::vector<glm::vec3> normals;  // one per vertex when the slab computes normals
+  std::vector<Polygon> polygons;
+  std::vector<PolygonGeometry> geometry;
+  bool first = false;  // the slab's first chunk: `shared_vertices` is valid
+  std::uint64_t shared_vertices = 0;  // EngineCounters::shared_vertices after begin_slab
+  bool last = false;  // the slab's last chunk: `summary` is valid
+  SlabSummary summary;
+
+  std::size_t bytes() const {
+    return vertices.size() * sizeof(Vertex) + normals.size() * sizeof(glm::vec3) +
+           polygons.size() * sizeof(Polygon) + geometry.size() * sizeof(PolygonGeometry);
+  }
+  // Empties it for reuse; the vectors keep their capacity, so memory stays what it was.
+  void clear();
+  // Gives each array room for everything a chunk can hold (SlabRecorder::kChunkBytes and one
+  // more batch of the engine's), so that filling it never reallocates: the memory a chunk takes
+  // is then the pages it has touched, and no freed copy is left behind in the allocator.
+  void reserve(const EngineOptions& engine, bool with_normals);
+  // The bytes reserve() gives: the most a chunk's arrays take once a run has touched them all
+  // (one chunk may fill its vertices, the next its polygons).
+  static std::size_t reserved_bytes(const EngineOptions& engine, bool with_normals);
+};
+
+// The sink a slab's engine writes into: appends each call to the current chunk and, when the
+// chunk holds kChunkBytes or more, hands it on with `full(chunk)` and takes an empty one with
+// `take()`. With `normals`, each vertex batch's normals are computed as it arrives, while the
+// slab's window holds the slices around it.
+class SlabRecorder final : public PolygonSink {
+ public:
+  static constexpr std::size_t kChunkBytes = std::size_t{512} << 10;
+
+  struct Handover {
+    virtual SlabChunk* take() = 0;             // an empty chunk; null when the run is cancelled
+    virtual void full(SlabChunk* chunk) = 0;   // a chunk for the writer, in order
+   protected:
+    ~Handover() = default;
+  };
+
+  // `geometry_follows`: the engine sends a geometry batch after each polygon batch
+  // (EngineOptions::polygon_geometry), and the pair is kept in one chunk.
+  SlabRecorder(Handover& handover, const VertexNormals* normals, bool geometry_follows)
+      : handover_(handover), normals_(normals), geometry_follows_(geometry_follows) {}
+
+  // Starts recording a slab, whose engine numbered `shared_vertices` vertices it does not emit,
+  // into a fresh chunk. False when the run is cancelled.
+  bool start(std::uint64_t shared_vertices);
+  // Ends the slab: its last chunk carries `summary`.
+  void end(const SlabSummary& summary);
+
+  Status consume_vertices(const Vertex* vertices, std::size_t count) override;
+  Status consume_polygons(const Polygon* polygons, std::size_t count) override;
+  Status consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) override;
+
+ private:
+  // Hands the chunk on once it is full; false when the run is cancelled.
+  bool after_call();
+
+  Handover& handover_;
+  const VertexNormals* normals_;
+  bool geometry_follows_;
+  SlabChunk* chunk_ = nullptr;
+};
+
+// Replays slabs, in order, into a mesh writer, moving each slab's local vertex indices to the
+// whole volume's numbering, and sums their counters.
+class SlabReplay {
+ public:
+  explicit SlabReplay(MeshWriter& mesh) : mesh_(mesh) {}
+
+  // Replays one chunk of the current slab; after its last chunk the next slab is current.
+  // Returns the writer's status (sink_refused: the writer holds the error).
+  Status replay(const SlabChunk& chunk);
+
+  const EngineCounters& counters() const { return counters_; }
+
+ private:
+  MeshWriter& mesh_;
+  std::uint64_t slab_base_ = 0;        // vertices of the slabs before the current one
+  std::uint64_t shared_base_ = 0;      // where the current slab's shared vertices start
+  std::uint64_t shared_ = 0;           // the current slab's shared vertex count
+  std::vector<Polygon> moved_;         // one polygon batch, its indices moved
+  EngineCounters counters_;
+};
+
+}  // namespace mvox

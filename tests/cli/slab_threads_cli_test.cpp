@@ -1,0 +1,151 @@
+// `mvox extract --threads N`: slabs of slices extracted in parallel give the file one thread
+// writes, byte for byte, in every format and option, for N = 1, 2, 3 and 8, on volumes whose
+// slab boundaries the surface crosses everywhere (noise), with --stats counting the same; and a
+// reading error in the middle of a slab-parallel run fails as a one-thread run does.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "support/command_runner.h"
+#include "support/file_io.h"
+
+namespace mvox {
+namespace {
+
+using test::run_mvox;
+
+// 8-bit noise, x fastest: every slab boundary cuts the surface nearly everywhere.
+void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed) {
+  std::vector<unsigned char> bytes(voxels);
+  std::uint64_t state = seed;
+  for (unsigned char& byte : bytes) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    byte = static_cast<unsigned char>(state >> 56);
+  }
+  test::write_bytes(path, bytes);
+}
+
+// The counters of a --stats report, from "inner_voxels" to the times (which, with the memory
+// figures after them, differ from run to run).
+std::string counters_of(const std::string& report) {
+  const std::size_t from = report.find("\"inner_voxels\"");
+  const std::size_t to = report.find("\"time_seconds\"");
+  EXPECT_NE(from, std::string::npos) << report;
+  EXPECT_NE(to, std::string::npos) << report;
+  return from < to && to != std::string::npos ? report.substr(from, to - from) : "";
+}
+
+struct Case {
+  const char* extension;
+  const char* options;
+};
+
+TEST(SlabThreads, EveryFormatAndOptionIsTheSameBytesForAnyNumberOfThreads) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 41 * 23 * 37, 11);
+  const std::string input = "noise.raw --raw 41x23x37:u8 -t 128 -q --slab-slices 4";
+  const Case cases[] = {
+      {"ply", ""},
+      {"ply", "--ascii"},
+      {"obj", ""},
+      {"stl", ""},
+      {"ply", "--triangulate"},
+      {"ply", "--normals"},
+      {"obj", "--normals --spacing 0.5,1,2 --origin -3,4,5"},
+      {"ply", "--method cubes --normals"},
+      {"ply", "--engine literal"},
+      {"ply", "--surface paper-table1"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string(c.extension) + " " + c.options);
+    std::string reference, reference_counters;
+    for (const int threads : {1, 2, 3, 8}) {
+      const std::string mesh = "m" + std::to_string(threads) + "." + c.extension;
+      const test::CommandResult result =
+          run_mvox("extract " + input + " " + c.options + " -o " + mesh + " --stats s.json" +
+                       " --threads " + std::to_string(threads),
+                   dir.path());
+      ASSERT_EQ(result.exit_code, 0) << result.output;
+      const std::string bytes = test::read_bytes(dir.path() / mesh);
+      const std::string counters = counters_of(test::read_bytes(dir.path() / "s.json"));
+      if (threads == 1) {
+        reference = bytes;
+        reference_counters = counters;
+        EXPECT_GT(bytes.size(), 10000u);
+        continue;
+      }
+      EXPECT_TRUE(bytes == reference) << threads << " threads wrote other bytes";
+      EXPECT_EQ(counters, reference_counters);
+    }
+  }
+}
+
+// The threads a run starts, as strace sees them: clone calls that make a thread.
+int threads_started(const std::string& arguments, const test::ScratchDirectory& dir) {
+  const test::CommandResult result =
+      run_mvox(arguments, dir.path(), "strace -f -qq -e trace=clone,clone3 -o clones.txt");
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  const std::string calls = test::read_bytes(dir.path() / "clones.txt");
+  int threads = 0;
+  for (std::size_t at = 0; (at = calls.find("CLONE_THREAD", at)) != std::string::npos; ++at)
+    ++threads;
+  return threads;
+}
+
+// --threads 1 is for single-core devices: no reading thread and no writing thread, only the one
+// that sleeps until Ctrl-C to remove temporaries. The mesh here is several MiB, so a writer
+// would start its thread, and several batches, so a reading thread would have work.
+TEST(SlabThreads, OneThreadMeansNoReadingAndNoWritingThread) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 200 * 150 * 40, 5);
+  const std::string run = "extract noise.raw --raw 200x150x40:u8 -t 128 -q -o m.ply";
+  EXPECT_EQ(threads_started(run + " --threads 1", dir), 1);
+  const std::string one = test::read_bytes(dir.path() / "m.ply");
+  ASSERT_GT(one.size(), std::size_t{4} << 20);
+  // The same run with two: a reader, a writer, and the slab workers (40 slices of 4 each).
+  EXPECT_GE(threads_started(run + " --threads 2 --slab-slices 4", dir), 4);
+  EXPECT_EQ(test::read_bytes(dir.path() / "m.ply"), one);
+}
+
+TEST(SlabThreads, ThePlanShowsTheWorkersAndDoesNotGrowWithDepth) {
+  test::ScratchDirectory dir;
+  auto plan = [&](const std::string& size) {
+    const test::CommandResult result =
+        run_mvox("extract /dev/zero --raw " + size + ":u8 -t 1 -o m.ply --dry-run --threads 2",
+                 dir.path());
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    const std::size_t at = result.output.find("slab workers");
+    EXPECT_NE(at, std::string::npos) << result.output;
+    return result.output.substr(at, result.output.find('\n', at) - at);
+  };
+  EXPECT_EQ(plan("512x512x400"), plan("512x512x40000"));
+}
+
+TEST(SlabThreads, AStackThatFailsMidwayFailsAsWithOneThread) {
+  test::ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom sphere -o stack --size 24x24x40 -q", dir.path()).exit_code, 0);
+  std::vector<std::string> slices;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "stack"))
+    slices.push_back(entry.path().filename().string());
+  std::sort(slices.begin(), slices.end());
+  ASSERT_EQ(slices.size(), 40u);
+  // A slice in the third slab of four slices cut short: the PNG reader refuses it.
+  const std::string broken = dir / ("stack/" + slices[10]);
+  const std::string bytes = test::read_bytes(broken);
+  test::write_bytes(broken, bytes.substr(0, bytes.size() / 2));
+  const test::CommandResult one =
+      run_mvox("extract stack -t 100 -o m.ply -q --threads 1", dir.path());
+  const test::CommandResult two =
+      run_mvox("extract stack -t 100 -o m.ply -q --threads 2 --slab-slices 4", dir.path());
+  test::expect_one_line_error(two, slices[10]);
+  EXPECT_EQ(two.output, one.output);
+  EXPECT_EQ(two.exit_code, one.exit_code);
+  EXPECT_FALSE(test::exists(dir / "m.ply"));
+}
+
+}  // namespace
+}  // namespace mvox
