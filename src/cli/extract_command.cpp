@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <thread>
 
 #include "cli/cli_options.h"
 #include "cli/commands.h"
@@ -36,7 +35,7 @@ struct ExtractArguments {
   std::string max_memory;  // as given; empty: the default budget
   bool dry_run = false;
   bool sync = false;
-  unsigned threads = 0;  // 0: one per core
+  unsigned threads = 0;  // 0: not given (one engine and a reading thread)
   std::uint32_t slab_slices = 0;
 };
 
@@ -120,9 +119,11 @@ void run_extract(const ExtractArguments& args) {
   job.dry_run = args.dry_run;
   job.sync = args.sync;
   job.slab_slices = args.slab_slices;
-  job.threads = args.threads > 0 ? args.threads : std::max(1u, std::thread::hardware_concurrency());
-  job.read_ahead = job.threads > 1;
-  BufferedWriter::allow_background_writes(job.threads > 1);
+  // The default is one engine with a reading thread: on two cores the slab-parallel path does
+  // not beat it yet (docs/scaling.md says where the time goes).
+  job.threads = std::max(1u, args.threads);
+  job.read_ahead = args.threads != 1;
+  BufferedWriter::allow_background_writes(args.threads != 1);
   run_mesh_job(*source, job);
 }
 
@@ -198,16 +199,17 @@ void add_extract_command(CLI::App& app) {
                     "a power loss right after cannot leave it empty; costs 5-20 ms a file");
   command
       ->add_option("--threads", args->threads,
-                   "Extracting threads (default: one per core). A mesh without a picture is cut "
-                   "into slabs of slices extracted in parallel, written as one thread writes "
-                   "it, byte for byte; volumes of one slab (about 8 Mi voxels), and pictures, "
-                   "use one engine and a reading thread. 1: one thread does everything")
+                   "Extracting threads. Above 1, a mesh without a picture is cut into slabs "
+                   "of slices extracted in parallel and written as one thread writes it, byte "
+                   "for byte (volumes of one slab, about 1 MiB of samples, use one engine). 1: one "
+                   "thread does everything, for single-core devices. Default: one engine and a "
+                   "reading thread, which two slab workers do not beat yet (docs/scaling.md)")
       ->check(CLI::Range(1u, 1024u));
   // For tests and tuning: thin slabs put slab boundaries everywhere in a small volume.
   command
       ->add_option("--slab-slices", args->slab_slices,
-                   "Slices per slab with --threads above 1 (default: about 8 Mi voxels a slab; "
-                   "at least 4)")
+                   "Slices per slab with --threads above 1 (default: about 1 MiB of samples a "
+                   "slab, 8 to 128 slices; at least 4)")
       ->check(CLI::Range(4u, 1u << 30))
       ->group("");
   command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");

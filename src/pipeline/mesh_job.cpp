@@ -122,6 +122,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   if (const unsigned threads = slab_threads(source, job); threads > 1) {
     SlabOptions slabs;
     slabs.threads = threads;
+    slabs.slab_slices = job.slab_slices;
     slabs.normals = job.normals;
     plan.add(std::to_string(threads) +
                  " slab workers (workspace, slices, window, recorded output)",

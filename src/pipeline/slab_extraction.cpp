@@ -56,13 +56,14 @@ struct SliceItem {
 };
 
 struct Worker final : SlabRecorder::Handover {
-  Worker(const Cancellation& cancellation, std::size_t slice_bytes, std::size_t workspace_bytes,
+  Worker(const Cancellation& cancellation, std::size_t slice_bytes, std::uint32_t buffer_slices,
+         std::size_t workspace_bytes,
          const EngineOptions& engine, bool with_normals)
       : slices(cancellation),
         free_slices(cancellation),
         full_chunks(cancellation),
         free_chunks(cancellation),
-        slice_storage(kSlicesPerWorker, std::vector<unsigned char>(slice_bytes)),
+        slice_storage(buffer_slices, std::vector<unsigned char>(slice_bytes)),
         chunk_storage(kChunksPerWorker),
         workspace(workspace_bytes) {
     for (auto& samples : slice_storage) free_slices.push(&samples);
@@ -192,7 +193,10 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
     if (!check(engine.init(worker.workspace.data(), worker.workspace.bytes(), info.width,
                            info.height, threshold, options, &recorder)))
       return;
-    if (first == 0 && !recorder.start(0)) return;
+    if (first == 0) {
+      if (!recorder.start(0)) return;
+      recorder.own_vertices_only();  // the first slab has no shared vertices
+    }
     std::uint64_t last_slice_first_vertex = 0;
     // The engine's part of slice z: the slice before the slab starts it, the slab's own are
     // pushed, the window's extra ones are only for normals.
@@ -203,7 +207,9 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
       }
       if (z < first || z >= end) return true;
       last_slice_first_vertex = engine.counters().vertices;
-      return check(engine.push_slice(view));
+      if (!check(engine.push_slice(view))) return false;
+      if (z == first) recorder.own_vertices_only();
+      return true;
     };
     SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
     if (window) window->restart_at(from);
@@ -233,9 +239,14 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
 }  // namespace
 
 std::uint32_t default_slab_slices(const VolumeInfo& volume) {
-  const std::uint64_t pixels = std::max<std::uint64_t>(1, std::uint64_t{volume.width} * volume.height);
-  const std::uint64_t slices = (std::uint64_t{8} << 20) / pixels;
-  return static_cast<std::uint32_t>(std::clamp<std::uint64_t>(slices, 4, 1u << 20));
+  const std::uint64_t slice = std::max<std::uint64_t>(
+      1, std::uint64_t{volume.width} * volume.height * sample_bytes(volume.type));
+  return static_cast<std::uint32_t>(
+      std::clamp<std::uint64_t>((std::uint64_t{1} << 20) / slice, 8, 128));
+}
+
+std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals) {
+  return slab_slices + 1 + (normals ? 2 : 0);
 }
 
 std::uint32_t slab_slices_of(const VolumeInfo& volume, std::uint32_t requested) {
@@ -246,7 +257,9 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                                   const SlabOptions& options) {
   const std::uint64_t slice = std::uint64_t{volume.width} * volume.height * sample_bytes(volume.type);
   const std::uint64_t per_worker =
-      engine_workspace_bytes(volume.width, volume.height, engine) + kSlicesPerWorker * slice +
+      engine_workspace_bytes(volume.width, volume.height, engine) +
+      std::uint64_t{slab_buffer_slices(slab_slices_of(volume, options.slab_slices), options.normals)} *
+          slice +
       (options.normals ? kSliceWindowDepth * slice : 0) +
       kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.normals);
   return per_worker * options.threads;
@@ -275,6 +288,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   for (std::uint32_t w = 0; w < threads; ++w) {
     workers.push_back(
         std::make_unique<Worker>(failure.cancellation(), slice_bytes,
+                                 slab_buffer_slices(cuts.slab_slices, options.normals),
                                                result.workspace_bytes, engine, options.normals));
     if (options.normals) workers.back()->normals.emplace(info, options.spacing, input_label);
   }

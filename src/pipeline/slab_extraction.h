@@ -33,14 +33,21 @@ struct SlabOptions {
   std::array<double, 3> spacing = {1, 1, 1};
 };
 
-constexpr unsigned kSlicesPerWorker = 4;
 constexpr unsigned kChunksPerWorker = 3;
 
-// Slices per slab for slices of this size: about 8 Mi voxels a slab, so that a slab's fixed
-// cost (its first slice is classified twice) stays small, and at least 4 slices.
+// Slices per slab for slices of this size: about 1 MiB of samples a slab, 8 to 128 slices.
+// A slab's fixed cost (the slice before it is classified again: 1/8 more classification at 8
+// slices) wants thick slabs. Thin ones win: each worker holds a whole slab's slices
+// (slab_buffer_slices), and the writer takes slabs in order, so a worker that runs ahead must
+// keep its slab's output in its chunks until the writer comes to it; when a slab's output does
+// not fit, the worker waits, and the workers take turns instead of working together.
 std::uint32_t default_slab_slices(const VolumeInfo& volume);
 // The slices per slab a run takes: `requested` (at least 4) or, for 0, the default.
 std::uint32_t slab_slices_of(const VolumeInfo& volume, std::uint32_t requested);
+// Slice buffers per worker: every slice its slab needs. Slices are read once, in order, so the
+// reader can hand the next slab to the next worker only once this one has its whole slab;
+// with fewer, the workers would take turns.
+std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals);
 
 // The memory the slab pipeline adds for `threads` workers: their workspaces, windows, slice
 // buffers and chunks (SlabChunk::reserved_bytes each).

@@ -45,6 +45,7 @@ std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine, bool with_nor
 }
 
 bool SlabRecorder::start(std::uint64_t shared_vertices) {
+  own_only_ = false;
   chunk_ = handover_.take();
   if (!chunk_) return false;
   chunk_->first = true;
@@ -70,7 +71,8 @@ bool SlabRecorder::after_call() {
 // so every call catches and refuses (the worker then reports the engine's sink_refused).
 Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count) {
   try {
-    chunk_->calls.push_back({SlabChunk::Kind::vertices, static_cast<std::uint32_t>(count)});
+    chunk_->calls.push_back(
+        {SlabChunk::Kind::vertices, own_only_, static_cast<std::uint32_t>(count)});
     chunk_->vertices.insert(chunk_->vertices.end(), vertices, vertices + count);
     if (normals_) {
       const std::size_t first = chunk_->normals.size();
@@ -85,7 +87,8 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
 
 Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count) {
   try {
-    chunk_->calls.push_back({SlabChunk::Kind::polygons, static_cast<std::uint32_t>(count)});
+    chunk_->calls.push_back(
+        {SlabChunk::Kind::polygons, own_only_, static_cast<std::uint32_t>(count)});
     chunk_->polygons.insert(chunk_->polygons.end(), polygons, polygons + count);
     // A geometry batch follows at once when the engine sends one: the chunk is handed on after
     // it, so that the pair stays in one chunk. Otherwise now: a layer of cubes can send many
@@ -99,7 +102,8 @@ Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count
 
 Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) {
   try {
-    chunk_->calls.push_back({SlabChunk::Kind::geometry, static_cast<std::uint32_t>(count)});
+    chunk_->calls.push_back(
+        {SlabChunk::Kind::geometry, own_only_, static_cast<std::uint32_t>(count)});
     chunk_->geometry.insert(chunk_->geometry.end(), polygons, polygons + count);
     return after_call() ? Status::ok : Status::sink_refused;
   } catch (...) {
@@ -107,7 +111,7 @@ Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, s
   }
 }
 
-Status SlabReplay::replay(const SlabChunk& chunk) {
+Status SlabReplay::replay(SlabChunk& chunk) {
   if (chunk.first) shared_ = chunk.shared_vertices;
   std::size_t vertex_at = 0, polygon_at = 0, geometry_at = 0;
   for (const SlabChunk::Call& call : chunk.calls) {
@@ -120,18 +124,23 @@ Status SlabReplay::replay(const SlabChunk& chunk) {
         vertex_at += call.count;
         break;
       case SlabChunk::Kind::polygons: {
-        moved_.assign(chunk.polygons.begin() + static_cast<std::ptrdiff_t>(polygon_at),
-                      chunk.polygons.begin() + static_cast<std::ptrdiff_t>(polygon_at + call.count));
+        Polygon* polygons = chunk.polygons.data() + polygon_at;
         // Local index i < shared: the previous slab's last slice's vertex shared_base + i;
         // any other: this slab's own vertex slab_base + i - shared.
-        const std::uint64_t own = slab_base_ - shared_;
-        for (Polygon& polygon : moved_)
-          for (int k = 0; k < polygon.vertex_count; ++k) {
-            const std::uint64_t local = polygon.vertices[k];
-            polygon.vertices[k] =
-                static_cast<std::uint32_t>(local < shared_ ? shared_base_ + local : own + local);
-          }
-        status = mesh_.consume_polygons(moved_.data(), moved_.size());
+        const auto own = static_cast<std::uint32_t>(slab_base_ - shared_);
+        if (call.own_vertices_only) {
+          for (std::uint32_t i = 0; i < call.count; ++i)
+            for (int k = 0; k < polygons[i].vertex_count; ++k) polygons[i].vertices[k] += own;
+        } else {
+          const auto shared = static_cast<std::uint32_t>(shared_);
+          const auto shared_base = static_cast<std::uint32_t>(shared_base_);
+          for (std::uint32_t i = 0; i < call.count; ++i)
+            for (int k = 0; k < polygons[i].vertex_count; ++k) {
+              const std::uint32_t local = polygons[i].vertices[k];
+              polygons[i].vertices[k] = local < shared ? shared_base + local : own + local;
+            }
+        }
+        status = mesh_.consume_polygons(polygons, call.count);
         polygon_at += call.count;
         break;
       }

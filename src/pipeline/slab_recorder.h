@@ -32,6 +32,9 @@ struct SlabChunk {
   enum class Kind : std::uint8_t { vertices, polygons, geometry };
   struct Call {
     Kind kind;
+    // Polygons emitted after the slab's first layer: none refers to a shared vertex, so that
+    // moving their indices is one addition.
+    bool own_vertices_only;
     std::uint32_t count;
   };
   std::vector<Call> calls;
@@ -82,6 +85,9 @@ class SlabRecorder final : public PolygonSink {
   // Starts recording a slab, whose engine numbered `shared_vertices` vertices it does not emit,
   // into a fresh chunk. False when the run is cancelled.
   bool start(std::uint64_t shared_vertices);
+  // From here on, the slab's polygons refer only to its own vertices: call after the engine
+  // has taken the slab's first slice (the layer that joins it to the slice before).
+  void own_vertices_only() { own_only_ = true; }
   // Ends the slab: its last chunk carries `summary`.
   void end(const SlabSummary& summary);
 
@@ -96,6 +102,7 @@ class SlabRecorder final : public PolygonSink {
   Handover& handover_;
   const VertexNormals* normals_;
   bool geometry_follows_;
+  bool own_only_ = false;
   SlabChunk* chunk_ = nullptr;
 };
 
@@ -106,8 +113,9 @@ class SlabReplay {
   explicit SlabReplay(MeshWriter& mesh) : mesh_(mesh) {}
 
   // Replays one chunk of the current slab; after its last chunk the next slab is current.
-  // Returns the writer's status (sink_refused: the writer holds the error).
-  Status replay(const SlabChunk& chunk);
+  // Moves the chunk's vertex indices in place. Returns the writer's status (sink_refused: the
+  // writer holds the error).
+  Status replay(SlabChunk& chunk);
 
   const EngineCounters& counters() const { return counters_; }
 
@@ -116,7 +124,6 @@ class SlabReplay {
   std::uint64_t slab_base_ = 0;        // vertices of the slabs before the current one
   std::uint64_t shared_base_ = 0;      // where the current slab's shared vertices start
   std::uint64_t shared_ = 0;           // the current slab's shared vertex count
-  std::vector<Polygon> moved_;         // one polygon batch, its indices moved
   EngineCounters counters_;
 };
 
