@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Slab-parallel scaling on this machine (docs/scaling.md): the paper's engine resampled to
+# 256x256xDEPTH (default 1024), extracted
+#   - in memory, by one engine and by 1..MAX_THREADS slab workers (mvox_bench_threads), and
+#   - end to end, raw file to binary PLY, by `mvox extract --threads N` (hyperfine, medians),
+# and the peak memory of each end-to-end run on that volume and on one 4x as deep, to show it is
+# flat in depth. Prints Markdown.
+#   bench/threads_scaling.sh BUILD_DIR [RUNS] [DEPTH] [MAX_THREADS] [DATASETS_DIR]
+set -euo pipefail
+build=$(realpath "$1")
+runs=${2:-5}
+depth=${3:-1024}
+max_threads=${4:-2}
+repo=$(cd "$(dirname "$0")/.." && pwd)
+datasets=${5:-$repo/../shared/datasets}
+engine=$datasets/engine/engine_256x256x128_uint8.raw
+[ -f "$engine" ] || { echo "$0: $engine not found (the paper's engine dataset)" >&2; exit 2; }
+mvox=$build/src/mvox
+for program in "$mvox" "$build/bench/mvox_bench_threads" "$build/bench/mvox_bench_resample"; do
+  [ -x "$program" ] || { echo "$0: $program not built" >&2; exit 2; }
+done
+command -v hyperfine > /dev/null || { echo "$0: hyperfine not installed (scripts/install_bench_deps.sh)" >&2; exit 2; }
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+
+deep=$((4 * depth))
+"$build/bench/mvox_bench_resample" "$engine" 256x256x128 "$scratch/volume.raw" "256x256x$depth"
+"$build/bench/mvox_bench_resample" "$engine" 256x256x128 "$scratch/deep.raw" "256x256x$deep"
+
+echo "## In memory"
+echo
+"$build/bench/mvox_bench_threads" "$scratch/volume.raw" "256x256x$depth:u8" 100 "$max_threads" "$runs"
+echo
+
+echo "## End to end: raw file to binary PLY"
+echo
+raw="--raw 256x256x$depth:u8 -t 100 -q"
+# One engine with its reading thread is what every version before --threads did: one slab.
+commands=("$mvox extract $scratch/volume.raw $raw -o $scratch/one.ply --threads 1"
+          "$mvox extract $scratch/volume.raw $raw -o $scratch/ahead.ply --threads 2 --slab-slices $depth")
+names=("--threads 1 (one thread)" "one engine and a reading thread")
+for threads in $(seq 2 "$max_threads"); do
+  commands+=("$mvox extract $scratch/volume.raw $raw -o $scratch/t$threads.ply --threads $threads")
+  names+=("--threads $threads")
+done
+hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/e2e.json" "${commands[@]}" > /dev/null
+python3 - "$scratch/e2e.json" "${names[@]}" <<'EOF'
+import json, statistics, sys
+results = json.load(open(sys.argv[1]))["results"]
+names = sys.argv[2:]
+base = statistics.median(results[0]["times"])
+print("| run | wall (median) | vs --threads 1 |\n|---|---|---|")
+for name, result in zip(names, results):
+    t = statistics.median(result["times"])
+    print(f"| {name} | {t * 1e3:.0f} ms | {base / t:.2f}x |")
+EOF
+for threads in $(seq 2 "$max_threads"); do
+  cmp -s "$scratch/one.ply" "$scratch/t$threads.ply" || { echo "$0: --threads $threads wrote a different mesh" >&2; exit 1; }
+done
+echo
+echo "Every mesh above is the same file, byte for byte."
+echo
+
+echo "## Peak memory, flat in depth"
+echo
+echo "| run | 256x256x$depth | 256x256x$deep |"
+echo "|---|---|---|"
+median() { sort -n | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
+for threads in $(seq 1 "$max_threads"); do
+  row="| --threads $threads"
+  for volume in "volume:$depth" "deep:$deep"; do
+    name=${volume%%:*}
+    for run in $(seq "$runs"); do
+      /usr/bin/time -f "%M" -o "$scratch/rss" "$mvox" extract "$scratch/$name.raw" \
+        --raw "256x256x${volume##*:}:u8" -t 100 -q -o "$scratch/m.ply" --threads "$threads"
+      cat "$scratch/rss"
+    done > "$scratch/rss_all"
+    row+=" | $(median < "$scratch/rss_all" | awk '{printf "%.1f MiB", $1 / 1024}')"
+  done
+  echo "$row |"
+done
