@@ -2,9 +2,10 @@
 # Slab-parallel scaling on this machine (docs/scaling.md): the paper's engine resampled to
 # 256x256xDEPTH (default 1024), extracted
 #   - in memory, by one engine and by 1..MAX_THREADS slab workers (mvox_bench_threads), and
-#   - end to end, raw file to binary PLY, by `mvox extract --threads N` (hyperfine, medians),
-# and the peak memory of each end-to-end run on that volume and on one 4x as deep, to show it is
-# flat in depth. Prints Markdown.
+#   - end to end, raw file to binary PLY, by `mvox extract --threads N` (hyperfine, medians);
+# a PNG stack of the same size (mvox phantom blobs), where each worker decodes its own slabs;
+# and the peak memory of each end-to-end run on the volume and on one 4x as deep, to show it
+# is flat in depth. Prints Markdown.
 #   bench/threads_scaling.sh BUILD_DIR [RUNS] [DEPTH] [MAX_THREADS] [DATASETS_DIR]
 set -euo pipefail
 build=$(realpath "$1")
@@ -27,6 +28,20 @@ deep=$((4 * depth))
 "$build/bench/mvox_bench_resample" "$engine" 256x256x128 "$scratch/volume.raw" "256x256x$depth"
 "$build/bench/mvox_bench_resample" "$engine" 256x256x128 "$scratch/deep.raw" "256x256x$deep"
 
+# A Markdown table of hyperfine's JSON: NAMES in order, medians, ratios to the first.
+table() {
+  python3 - "$@" <<'EOF'
+import json, statistics, sys
+results = json.load(open(sys.argv[1]))["results"]
+names = sys.argv[2:]
+base = statistics.median(results[0]["times"])
+print("| run | wall (median) | vs --threads 1 |\n|---|---|---|")
+for name, result in zip(names, results):
+    t = statistics.median(result["times"])
+    print(f"| {name} | {t * 1e3:.0f} ms | {base / t:.2f}x |")
+EOF
+}
+
 echo "## In memory"
 echo
 "$build/bench/mvox_bench_threads" "$scratch/volume.raw" "256x256x$depth:u8" 100 "$max_threads" "$runs"
@@ -44,21 +59,29 @@ for threads in $(seq 2 "$max_threads"); do
   names+=("--threads $threads")
 done
 hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/e2e.json" "${commands[@]}" > /dev/null
-python3 - "$scratch/e2e.json" "${names[@]}" <<'EOF'
-import json, statistics, sys
-results = json.load(open(sys.argv[1]))["results"]
-names = sys.argv[2:]
-base = statistics.median(results[0]["times"])
-print("| run | wall (median) | vs --threads 1 |\n|---|---|---|")
-for name, result in zip(names, results):
-    t = statistics.median(result["times"])
-    print(f"| {name} | {t * 1e3:.0f} ms | {base / t:.2f}x |")
-EOF
+table "$scratch/e2e.json" "${names[@]}"
 for threads in $(seq 2 "$max_threads"); do
   cmp -s "$scratch/one.ply" "$scratch/t$threads.ply" || { echo "$0: --threads $threads wrote a different mesh" >&2; exit 1; }
 done
 echo
 echo "Every mesh above is the same file, byte for byte."
+echo
+
+echo "## End to end: PNG stack to binary PLY (each worker decodes its own slabs)"
+echo
+"$mvox" phantom blobs --size "256x256x$depth" -o "$scratch/stack" -q
+commands=("$mvox extract $scratch/stack -t 128 -q -o $scratch/s1.ply --threads 1"
+          "$mvox extract $scratch/stack -t 128 -q -o $scratch/s0.ply --threads 2 --slab-slices $depth")
+names=("--threads 1 (one thread)" "one engine and a reading thread")
+for threads in $(seq 2 "$max_threads"); do
+  commands+=("$mvox extract $scratch/stack -t 128 -q -o $scratch/st$threads.ply --threads $threads")
+  names+=("--threads $threads")
+done
+hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/png.json" "${commands[@]}" > /dev/null
+table "$scratch/png.json" "${names[@]}"
+for threads in $(seq 2 "$max_threads"); do
+  cmp -s "$scratch/s1.ply" "$scratch/st$threads.ply" || { echo "$0: --threads $threads wrote a different mesh from the stack" >&2; exit 1; }
+done
 echo
 
 echo "## Peak memory, flat in depth"

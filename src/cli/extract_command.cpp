@@ -35,7 +35,7 @@ struct ExtractArguments {
   std::string max_memory;  // as given; empty: the default budget
   bool dry_run = false;
   bool sync = false;
-  unsigned threads = 0;  // 0: not given (one engine and a reading thread)
+  unsigned threads = 0;  // 0: not given (chosen by the volume's size)
   std::uint32_t slab_slices = 0;
 };
 
@@ -119,9 +119,7 @@ void run_extract(const ExtractArguments& args) {
   job.dry_run = args.dry_run;
   job.sync = args.sync;
   job.slab_slices = args.slab_slices;
-  // The default is one engine with a reading thread: on two cores the slab-parallel path does
-  // not beat it yet (docs/scaling.md says where the time goes).
-  job.threads = std::max(1u, args.threads);
+  job.threads = args.threads;  // 0: chosen by the volume's size (MeshJob::threads)
   job.read_ahead = args.threads != 1;
   BufferedWriter::allow_background_writes(args.threads != 1);
   run_mesh_job(*source, job);
@@ -202,8 +200,8 @@ void add_extract_command(CLI::App& app) {
                    "Extracting threads. Above 1, a mesh without a picture is cut into slabs "
                    "of slices extracted in parallel and written as one thread writes it, byte "
                    "for byte (volumes of one slab, about 1 MiB of samples, use one engine). 1: one "
-                   "thread does everything, for single-core devices. Default: one engine and a "
-                   "reading thread, which two slab workers do not beat yet (docs/scaling.md)")
+                   "thread does everything, for single-core devices. Default: one per core "
+                   "for volumes of 64 MiB or more, else one engine and a reading thread")
       ->check(CLI::Range(1u, 1024u));
   // For tests and tuning: thin slabs put slab boundaries everywhere in a small volume.
   command

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include "error.h"
 #include "message_line.h"
@@ -106,10 +107,16 @@ void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& pla
 }  // namespace
 
 unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
-  if (job.threads <= 1 || job.output.empty() || job.picture.wanted()) return 1;
-  const std::uint64_t depth = source.info().depth;
-  const std::uint64_t per_slab = slab_slices_of(source.info(), job.slab_slices);
-  return (depth + per_slab - 1) / per_slab >= 2 ? job.threads : 1;
+  const VolumeInfo& info = source.info();
+  unsigned threads = job.threads;
+  if (threads == 0) {
+    const std::uint64_t bytes =
+        std::uint64_t{info.width} * info.height * info.depth * sample_bytes(info.type);
+    threads = bytes >= kAutoSlabVolumeBytes ? std::max(1u, std::thread::hardware_concurrency()) : 1;
+  }
+  if (threads <= 1 || job.output.empty() || job.picture.wanted()) return 1;
+  const std::uint64_t per_slab = slab_slices_of(info, job.slab_slices);
+  return (info.depth + per_slab - 1) / per_slab >= 2 ? threads : 1;
 }
 
 MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
@@ -124,6 +131,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     slabs.threads = threads;
     slabs.slab_slices = job.slab_slices;
     slabs.normals = job.normals;
+    if (own_range_reader(source)) slabs.reader_bytes = source.working_bytes();
     plan.add(std::to_string(threads) +
                  " slab workers (workspace, slices, window, recorded output)",
              slab_pipeline_bytes(info, engine, slabs));

@@ -17,6 +17,7 @@
 #include "picture/normal_window.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/slab_recorder.h"
+#include "read/range_readable.h"
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
@@ -92,6 +93,7 @@ struct Worker final : SlabRecorder::Handover {
   WorkspaceBuffer workspace;
   std::optional<NormalWindow> normals;
   std::thread thread;
+  double read_seconds = 0;  // inside its own slab readers
 };
 
 // The first failure of any thread, and the cancellation that stops the others.
@@ -111,8 +113,32 @@ class RunFailure {
     cancellation_.cancel();
     for (auto& worker : workers_) worker->wake();
   }
-  void rethrow() {
+  // A worker reading its own slices failed at slice z. Workers read in parallel, so the first
+  // failure to arrive need not be the first slice in the volume that fails; rethrow() sees to
+  // that.
+  void fail_reading(std::uint32_t z, std::exception_ptr error) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!read_error_ || z < read_z_) {
+        read_error_ = error;
+        read_z_ = z;
+      }
+    }
+    cancel();
+  }
+  void rethrow(const RangeReadable* ranges) {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (read_error_) {
+      // One thread reading in order would have failed at the first bad slice: read the slices
+      // before this one again, in order, and any failure there is the one to report.
+      if (read_z_ > 0) {
+        const std::unique_ptr<SliceSource> before = ranges->open_range(0, read_z_);
+        SliceView view;
+        while (before->next_slice(&view)) {
+        }
+      }
+      std::rethrow_exception(read_error_);
+    }
     if (first_) std::rethrow_exception(first_);
   }
 
@@ -121,6 +147,8 @@ class RunFailure {
   Cancellation cancellation_;
   std::mutex mutex_;
   std::exception_ptr first_;
+  std::exception_ptr read_error_;
+  std::uint32_t read_z_ = 0;
 };
 
 SliceView packed_view(const VolumeInfo& info, const std::vector<unsigned char>& samples) {
@@ -177,8 +205,9 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
 // Runs the engine over every slab this worker takes: slabs w, w + threads, ...
 void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
                    const SlabCuts& cuts, const VolumeInfo& info, double threshold,
-                   const EngineOptions& options, const Cancellation& cancellation,
-                   const std::string& input_label) {
+                   const EngineOptions& options, const RangeReadable* ranges,
+                   RunFailure& failure, const std::string& input_label) {
+  const Cancellation& cancellation = failure.cancellation();
   const VertexNormals* normals = worker.normals ? &worker.normals->normals() : nullptr;
   SlabRecorder recorder(worker, normals, options.polygon_geometry);
   auto check = [&](Status status) {
@@ -213,11 +242,29 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
     };
     SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
     if (window) window->restart_at(from);
+    std::unique_ptr<SliceSource> reader;  // the slab's own, when the input allows
+    if (ranges) reader = ranges->open_range(from, to);
     for (std::uint32_t z = from; z < to; ++z) {
-      const std::optional<SliceItem> item = worker.slices.pop();
-      if (!item) return;
-      if (item->z != z) throw Error(input_label, "internal error: slices out of order");
-      const SliceView view = packed_view(info, *item->samples);
+      std::optional<SliceItem> item;
+      SliceView view;
+      if (reader) {
+        if (cancellation.cancelled()) return;
+        bool more = false;
+        const auto read_start = Clock::now();
+        try {
+          more = reader->next_slice(&view);
+        } catch (...) {
+          failure.fail_reading(z, std::current_exception());
+          return;
+        }
+        worker.read_seconds += seconds_since(read_start);
+        if (!more) throw Error(input_label, "ended before slice " + std::to_string(z));
+      } else {
+        item = worker.slices.pop();
+        if (!item) return;
+        if (item->z != z) throw Error(input_label, "internal error: slices out of order");
+        view = packed_view(info, *item->samples);
+      }
       bool ok = true;
       if (window) {
         // As stream_volume() does: the engine one slice behind the window, so that the window
@@ -227,7 +274,7 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
       } else {
         ok = take(z, view);
       }
-      worker.free_slices.push(item->samples);
+      if (item) worker.free_slices.push(item->samples);
       if (!ok) return;
     }
     if (window && !take(to - 1, window->slice(to - 1))) return;
@@ -245,6 +292,11 @@ std::uint32_t default_slab_slices(const VolumeInfo& volume) {
       std::clamp<std::uint64_t>((std::uint64_t{1} << 20) / slice, 8, 128));
 }
 
+const RangeReadable* own_range_reader(const SliceSource& source) {
+  const auto* ranges = dynamic_cast<const RangeReadable*>(&source);
+  return ranges && ranges->range_readable() ? ranges : nullptr;
+}
+
 std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals) {
   return slab_slices + 1 + (normals ? 2 : 0);
 }
@@ -258,8 +310,11 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
   const std::uint64_t slice = std::uint64_t{volume.width} * volume.height * sample_bytes(volume.type);
   const std::uint64_t per_worker =
       engine_workspace_bytes(volume.width, volume.height, engine) +
-      std::uint64_t{slab_buffer_slices(slab_slices_of(volume, options.slab_slices), options.normals)} *
-          slice +
+      (options.reader_bytes > 0
+           ? options.reader_bytes
+           : std::uint64_t{slab_buffer_slices(slab_slices_of(volume, options.slab_slices),
+                                              options.normals)} *
+                 slice) +
       (options.normals ? kSliceWindowDepth * slice : 0) +
       kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.normals);
   return per_worker * options.threads;
@@ -283,12 +338,14 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   const std::size_t slice_bytes =
       std::size_t{info.width} * info.height * sample_bytes(info.type);
 
+  const RangeReadable* ranges = own_range_reader(source);
+
   std::vector<std::unique_ptr<Worker>> workers;
   RunFailure failure(workers);
   for (std::uint32_t w = 0; w < threads; ++w) {
     workers.push_back(
         std::make_unique<Worker>(failure.cancellation(), slice_bytes,
-                                 slab_buffer_slices(cuts.slab_slices, options.normals),
+                                 ranges ? 0 : slab_buffer_slices(cuts.slab_slices, options.normals),
                                                result.workspace_bytes, engine, options.normals));
     if (options.normals) workers.back()->normals.emplace(info, options.spacing, input_label);
   }
@@ -305,19 +362,20 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     for (std::uint32_t w = 0; w < threads; ++w)
       workers[w]->thread = std::thread([&, w] {
         try {
-          extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine,
-                        failure.cancellation(), input_label);
+          extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine, ranges, failure,
+                        input_label);
         } catch (...) {
           failure.fail(std::current_exception());
         }
       });
-    reader = std::thread([&] {
-      try {
-        read_slices(source, cuts, workers, input_label, &read_seconds);
-      } catch (...) {
-        failure.fail(std::current_exception());
-      }
-    });
+    if (!ranges)
+      reader = std::thread([&] {
+        try {
+          read_slices(source, cuts, workers, input_label, &read_seconds);
+        } catch (...) {
+          failure.fail(std::current_exception());
+        }
+      });
   } catch (const std::system_error& error) {
     failure.cancel();
     join_all();
@@ -354,7 +412,8 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     failure.fail(std::current_exception());
   }
   join_all();
-  failure.rethrow();
+  failure.rethrow(ranges);
+  for (const auto& worker : workers) read_seconds += worker->read_seconds;
 
   result.counters = replay.counters();
   result.times.total_s = seconds_since(start);

@@ -4,14 +4,20 @@
 // replays the slabs' output in order into the mesh writer, so that the mesh is the one a single
 // engine writes, byte for byte, for any number of workers.
 //
-// Threads: one reads the source and hands each slice to the workers whose slabs need it (a
-// slab also needs the slice before it, and with normals one more on each side); `threads`
-// workers extract; the caller writes. A worker records what its engine emits in chunks of about
+// Threads: `threads` workers extract; the caller writes. Where the input allows
+// (own_range_reader: files), each worker reads its own slab's slices, so decoding runs in
+// parallel too; otherwise one more thread reads the source once, in order, and hands each
+// slice to the workers whose slabs need it (a slab also needs the slice before it, and with
+// normals one more on each side). A worker records what its engine emits in chunks of about
 // half a MiB (slab_recorder.h) and hands them to the writer, which takes them slab by slab.
 //
 // Memory is fixed, whatever the depth: per worker an engine workspace, a slice window when
-// normals are wanted, kSlicesPerWorker slice buffers and kChunksPerWorker chunks; a worker
-// whose chunks are all waiting for the writer waits too. slab_pipeline_bytes() says how much.
+// normals are wanted, its own slab reader or a slab's slice buffers (slab_buffer_slices), and
+// kChunksPerWorker chunks; a worker whose chunks are all waiting for the writer waits too.
+// slab_pipeline_bytes() says how much.
+//
+// A reading error is reported as one thread reading in order would report it: the first bad
+// slice in the volume, even when workers reading in parallel came to a later one first.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -31,7 +37,15 @@ struct SlabOptions {
   // size the mesh is written with.
   bool normals = false;
   std::array<double, 3> spacing = {1, 1, 1};
+  // For slab_pipeline_bytes(): the working bytes of each worker's own slab reader, when the
+  // input is read that way (own_range_reader); 0 when one thread reads and fans slices out.
+  std::uint64_t reader_bytes = 0;
 };
+
+class RangeReadable;
+// The source as a RangeReadable when each worker can read its own slab's slices from it (files),
+// or null when one thread must read it in order and hand the slices out (a pipe).
+const RangeReadable* own_range_reader(const SliceSource& source);
 
 constexpr unsigned kChunksPerWorker = 3;
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -125,6 +126,48 @@ TEST(SlabThreads, ThePlanShowsTheWorkersAndDoesNotGrowWithDepth) {
   EXPECT_EQ(plan("512x512x400"), plan("512x512x40000"));
 }
 
+// Files are read by each worker for its own slabs (stacks of images or raw slices, a raw volume
+// file); a pipe is read once by one thread and fanned out. Both give the bytes one thread
+// writes.
+TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
+  test::ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom blobs -o stack --size 30x20x33 -q", dir.path()).exit_code, 0);
+  write_noise(dir / "noise.raw", 19 * 13 * 29, 3);
+  std::filesystem::create_directory(dir / "slices");
+  const std::string noise = test::read_bytes(dir / "noise.raw");
+  for (int z = 0; z < 29; ++z) {
+    char name[32];
+    std::snprintf(name, sizeof name, "slices/s%03d.raw", z);
+    test::write_bytes(dir / name, noise.substr(std::size_t{19} * 13 * z, 19 * 13));
+  }
+  const std::string inputs[] = {
+      "stack -t 100",
+      "stack -t 100 --normals",
+      "'slices/s*.raw' --raw 19x13:u8 -t 128",
+      "noise.raw --raw 19x13x29:u8 -t 128 --normals",
+  };
+  for (const std::string& input : inputs) {
+    for (const bool piped : {false, true}) {
+      // A pipe: the same volume through standard input, raw inputs only.
+      if (piped && input.rfind("noise.raw", 0) != 0) continue;
+      const std::string command =
+          "extract " + (piped ? "/dev/stdin" + input.substr(9) : input) +
+          " -q --slab-slices 4 -o m.ply --threads ";
+      SCOPED_TRACE(command + (piped ? " (piped)" : ""));
+      std::string reference;
+      for (const int threads : {1, 2, 3, 8}) {
+        const test::CommandResult result = run_mvox(command + std::to_string(threads),
+                                                    dir.path(), piped ? "cat noise.raw |" : "");
+        ASSERT_EQ(result.exit_code, 0) << result.output;
+        const std::string bytes = test::read_bytes(dir.path() / "m.ply");
+        if (threads == 1) reference = bytes;
+        EXPECT_GT(bytes.size(), 1000u);
+        EXPECT_TRUE(bytes == reference) << threads << " threads wrote other bytes";
+      }
+    }
+  }
+}
+
 TEST(SlabThreads, AStackThatFailsMidwayFailsAsWithOneThread) {
   test::ScratchDirectory dir;
   ASSERT_EQ(run_mvox("phantom sphere -o stack --size 24x24x40 -q", dir.path()).exit_code, 0);
@@ -144,6 +187,22 @@ TEST(SlabThreads, AStackThatFailsMidwayFailsAsWithOneThread) {
   test::expect_one_line_error(two, slices[10]);
   EXPECT_EQ(two.output, one.output);
   EXPECT_EQ(two.exit_code, one.exit_code);
+  EXPECT_FALSE(test::exists(dir / "m.ply"));
+
+  // Bad slices in three slabs, each worker reading its own: the second slab's worker comes to
+  // slice 5 as soon as the first slab's comes to slice 2 (both are their third reads), and
+  // either may fail first, yet the error is slice 2's, as one thread reading in order reports.
+  test::write_bytes(dir / ("stack/" + slices[2]), "not an image");
+  test::write_bytes(dir / ("stack/" + slices[5]), "not an image either");
+  const test::CommandResult first =
+      run_mvox("extract stack -t 100 -o m.ply -q --threads 1", dir.path());
+  test::expect_one_line_error(first, slices[2]);
+  for (int run = 0; run < 10; ++run) {
+    const test::CommandResult eight =
+        run_mvox("extract stack -t 100 -o m.ply -q --threads 8 --slab-slices 4", dir.path());
+    EXPECT_EQ(eight.output, first.output);
+    EXPECT_EQ(eight.exit_code, first.exit_code);
+  }
   EXPECT_FALSE(test::exists(dir / "m.ply"));
 }
 

@@ -184,8 +184,24 @@ void ImageStackSource::load(std::size_t index) {
   loaded_index_ = index;
 }
 
+std::unique_ptr<SliceSource> ImageStackSource::open_range(std::uint32_t first,
+                                                          std::uint32_t end) const {
+  // A copy knows the volume as this source does (its size, type, first file for messages, and
+  // whether OpenCV is needed, whose module is loaded already); it keeps the decoded first slice
+  // only when it starts there.
+  auto range = std::make_unique<ImageStackSource>(*this);
+  range->next_index_ = first;
+  range->end_index_ = end;
+  range->file_bytes_ = {};
+  if (loaded_index_ != first) {
+    range->buffer_ = {};
+    range->loaded_index_ = SIZE_MAX;
+  }
+  return range;
+}
+
 bool ImageStackSource::next_slice(SliceView* slice) {
-  if (next_index_ >= files_.size()) return false;
+  if (next_index_ >= std::min(files_.size(), end_index_)) return false;
   // The constructor already decoded the first file; do not decode it twice.
   if (next_index_ != loaded_index_) load(next_index_);
   slice->samples = buffer_.data();

@@ -5,10 +5,12 @@
 // (modules/image_codecs.h) is loaded only when a slice's file name or the first PNG needs it.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "mvox/slice_source.h"
+#include "read/range_readable.h"
 
 namespace mvox {
 
@@ -26,13 +28,16 @@ namespace mvox {
 // unsupported bit depth, a size or bit depth that differs from the first slice, an image of
 // more than 2^30 pixels (OpenCV's limit), or, when a slice needs OpenCV, a module that cannot
 // be loaded.
-class ImageStackSource : public SliceSource {
+class ImageStackSource : public SliceSource, public RangeReadable {
  public:
   explicit ImageStackSource(std::vector<std::string> files);
 
   const VolumeInfo& info() const override { return info_; }
   bool next_slice(SliceView* slice) override;
   std::uint64_t working_bytes() const override;
+
+  bool range_readable() const override { return true; }
+  std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
 
  private:
   // Decodes files_[index] into buffer_, checking it against info_ (or setting info_ for the
@@ -51,6 +56,7 @@ class ImageStackSource : public SliceSource {
   std::uint64_t first_file_bytes_ = 0;  // size of the first file, for working_bytes()
   bool uses_opencv_ = false;            // some slice is decoded by OpenCV
   std::size_t next_index_ = 0;          // file the next call to next_slice returns
+  std::size_t end_index_ = SIZE_MAX;    // one past the last file it returns (open_range)
   // File whose samples are in buffer_: the constructor decodes the first one only when its
   // header cannot be read.
   std::size_t loaded_index_ = SIZE_MAX;

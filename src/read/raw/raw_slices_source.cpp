@@ -1,5 +1,7 @@
 #include "read/raw/raw_slices_source.h"
 
+#include <algorithm>
+
 #include <filesystem>
 #include <limits>
 #include <system_error>
@@ -36,8 +38,17 @@ RawSlicesSource::RawSlicesSource(std::vector<std::string> files, const RawFormat
   info_.type = format_.type;
 }
 
+std::unique_ptr<SliceSource> RawSlicesSource::open_range(std::uint32_t first,
+                                                         std::uint32_t end) const {
+  auto range = std::make_unique<RawSlicesSource>(*this);  // the file list, no file open
+  range->buffer_ = {};
+  range->next_index_ = first;
+  range->end_index_ = end;
+  return range;
+}
+
 bool RawSlicesSource::next_slice(SliceView* slice) {
-  if (next_index_ >= files_.size()) return false;
+  if (next_index_ >= std::min(files_.size(), end_index_)) return false;
   RawFile file(files_[next_index_]);
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");

@@ -2,10 +2,13 @@
 // Reads a volume stored as one headerless file per slice, e.g. CThead.1 ... CThead.113
 // (--raw 256x256:u16be).
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "mvox/slice_source.h"
+#include "read/range_readable.h"
 #include "read/raw/raw_format.h"
 
 namespace mvox {
@@ -17,7 +20,7 @@ namespace mvox {
 // order in place.
 // Throws mvox::Error: the constructor checks every file's size up front (a wrong size found
 // after an hour of streaming helps nobody); next_slice names the file on a read error.
-class RawSlicesSource : public SliceSource {
+class RawSlicesSource : public SliceSource, public RangeReadable {
  public:
   RawSlicesSource(std::vector<std::string> files, const RawFormat& format);
 
@@ -25,12 +28,16 @@ class RawSlicesSource : public SliceSource {
   bool next_slice(SliceView* slice) override;
   std::uint64_t working_bytes() const override { return format_.slice_bytes(); }
 
+  bool range_readable() const override { return true; }
+  std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
+
  private:
   std::vector<std::string> files_;
   RawFormat format_;
   VolumeInfo info_;
   std::vector<unsigned char> buffer_;  // the current slice, native order
   std::size_t next_index_ = 0;
+  std::size_t end_index_ = SIZE_MAX;  // one past the last file it returns (open_range)
 };
 
 }  // namespace mvox

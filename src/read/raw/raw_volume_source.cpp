@@ -27,10 +27,30 @@ RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& forma
   info_.height = format_.height;
   info_.depth = format_.depth;
   info_.type = format_.type;
+  end_index_ = format_.depth;
+}
+
+RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format,
+                                 std::uint32_t first, std::uint32_t end)
+    : file_(path),
+      format_(format),
+      slices_(file_, std::uint64_t{first} * format.slice_bytes(), format.slice_bytes(), end - first,
+              kChunkBytes),
+      next_index_(first),
+      end_index_(end) {
+  info_.width = format_.width;
+  info_.height = format_.height;
+  info_.depth = format_.depth;
+  info_.type = format_.type;
+}
+
+std::unique_ptr<SliceSource> RawVolumeSource::open_range(std::uint32_t first,
+                                                         std::uint32_t end) const {
+  return std::unique_ptr<SliceSource>(new RawVolumeSource(file_.path(), format_, first, end));
 }
 
 bool RawVolumeSource::next_slice(SliceView* slice) {
-  if (next_index_ >= format_.depth) {
+  if (next_index_ >= end_index_) {
     // A pipe's size was not known up front: a longer stream is as wrong as a longer file.
     if (next_index_ == format_.depth) {
       file_.expect_end(std::uint64_t{format_.depth} * format_.slice_bytes(),

@@ -3,9 +3,11 @@
 // engine_256x256x128_uint8.raw (--raw 256x256x128:u8).
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "mvox/slice_source.h"
+#include "read/range_readable.h"
 #include "read/raw/raw_format.h"
 #include "read/raw_file.h"
 
@@ -23,7 +25,7 @@ namespace mvox {
 // order in place.
 // Throws mvox::Error naming the file when it cannot be opened, has the wrong size, or a read
 // fails.
-class RawVolumeSource : public SliceSource {
+class RawVolumeSource : public SliceSource, public RangeReadable {
  public:
   static constexpr std::size_t kChunkBytes = 64 * 1024;
 
@@ -33,12 +35,21 @@ class RawVolumeSource : public SliceSource {
   bool next_slice(SliceView* slice) override;
   std::uint64_t working_bytes() const override { return slices_.buffer_bytes(); }
 
+  // A file, not a pipe: slices [first, end) are read from their place in it.
+  bool range_readable() const override { return !file_.is_stream(); }
+  std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
+
  private:
+  // Slices [first, end) of the volume file `path`, whose size the whole source checked.
+  RawVolumeSource(const std::string& path, const RawFormat& format, std::uint32_t first,
+                  std::uint32_t end);
+
   RawFile file_;
   RawFormat format_;
   VolumeInfo info_;
   ChunkedSliceReader slices_;  // the current slice is swapped to native order in its buffer
   std::uint32_t next_index_ = 0;
+  std::uint32_t end_index_ = 0;  // one past the last slice it returns
 };
 
 }  // namespace mvox
