@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "support/command_runner.h"
@@ -124,6 +125,32 @@ TEST(SlabThreads, ThePlanShowsTheWorkersAndDoesNotGrowWithDepth) {
     return result.output.substr(at, result.output.find('\n', at) - at);
   };
   EXPECT_EQ(plan("512x512x400"), plan("512x512x40000"));
+}
+
+// Without --threads: one worker per core from 64 MiB of samples on, one engine below (where
+// starting workers costs about what they save). Sparse files: a dry run reads no slice.
+TEST(SlabThreads, TheDefaultIsOneWorkerPerCoreForLargeVolumes) {
+  test::ScratchDirectory dir;
+  auto dry_run = [&](const std::string& name, std::uint32_t depth) {
+    test::write_bytes(dir / name, std::string());
+    std::filesystem::resize_file(dir / name, std::uintmax_t{256} * 256 * depth);
+    const test::CommandResult result =
+        run_mvox("extract " + name + " --raw 256x256x" + std::to_string(depth) +
+                     ":u8 -t 1 -o m.ply --dry-run",
+                 dir.path());
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    return result.output;
+  };
+  const unsigned cores = std::thread::hardware_concurrency();
+  const std::string large = dry_run("large.raw", 1024);  // 64 MiB
+  if (cores > 1) {
+    EXPECT_NE(large.find(std::to_string(cores) + " slab workers"), std::string::npos) << large;
+  } else {
+    EXPECT_EQ(large.find("slab workers"), std::string::npos) << large;
+  }
+  const std::string small = dry_run("small.raw", 1023);
+  EXPECT_EQ(small.find("slab workers"), std::string::npos) << small;
+  EXPECT_NE(small.find("reading ahead"), std::string::npos) << small;
 }
 
 // Files are read by each worker for its own slabs (stacks of images or raw slices, a raw volume
