@@ -47,42 +47,38 @@ echo
 "$build/bench/mvox_bench_threads" "$scratch/volume.raw" "256x256x$depth:u8" 100 "$max_threads" "$runs"
 echo
 
+# end_to_end NAME INPUT_ARGUMENTS: hyperfine on `mvox extract INPUT_ARGUMENTS -o PLY` with one
+# thread, one engine and a reading thread (one slab), and 2..MAX_THREADS slab workers; checks
+# that every mesh is the same file.
+end_to_end() {
+  local name=$1 input=$2 threads
+  local commands=("$mvox extract $input -q -o $scratch/$name-1.ply --threads 1"
+                  "$mvox extract $input -q -o $scratch/$name-ahead.ply --threads 2 --slab-slices $depth")
+  local names=("--threads 1 (one thread)" "one engine and a reading thread")
+  for threads in $(seq 2 "$max_threads"); do
+    commands+=("$mvox extract $input -q -o $scratch/$name-$threads.ply --threads $threads")
+    names+=("--threads $threads")
+  done
+  hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/$name.json" \
+    "${commands[@]}" > /dev/null
+  table "$scratch/$name.json" "${names[@]}"
+  for threads in ahead $(seq 2 "$max_threads"); do
+    cmp -s "$scratch/$name-1.ply" "$scratch/$name-$threads.ply" ||
+      { echo "$0: $name: run '$threads' wrote another mesh than one thread" >&2; exit 1; }
+  done
+  echo
+  echo "Every mesh above is the same file, byte for byte."
+  echo
+}
+
 echo "## End to end: raw file to binary PLY"
 echo
-raw="--raw 256x256x$depth:u8 -t 100 -q"
-# One engine with its reading thread is what every version before --threads did: one slab.
-commands=("$mvox extract $scratch/volume.raw $raw -o $scratch/one.ply --threads 1"
-          "$mvox extract $scratch/volume.raw $raw -o $scratch/ahead.ply --threads 2 --slab-slices $depth")
-names=("--threads 1 (one thread)" "one engine and a reading thread")
-for threads in $(seq 2 "$max_threads"); do
-  commands+=("$mvox extract $scratch/volume.raw $raw -o $scratch/t$threads.ply --threads $threads")
-  names+=("--threads $threads")
-done
-hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/e2e.json" "${commands[@]}" > /dev/null
-table "$scratch/e2e.json" "${names[@]}"
-for threads in $(seq 2 "$max_threads"); do
-  cmp -s "$scratch/one.ply" "$scratch/t$threads.ply" || { echo "$0: --threads $threads wrote a different mesh" >&2; exit 1; }
-done
-echo
-echo "Every mesh above is the same file, byte for byte."
-echo
+end_to_end raw "$scratch/volume.raw --raw 256x256x$depth:u8 -t 100"
 
 echo "## End to end: PNG stack to binary PLY (each worker decodes its own slabs)"
 echo
 "$mvox" phantom blobs --size "256x256x$depth" -o "$scratch/stack" -q
-commands=("$mvox extract $scratch/stack -t 128 -q -o $scratch/s1.ply --threads 1"
-          "$mvox extract $scratch/stack -t 128 -q -o $scratch/s0.ply --threads 2 --slab-slices $depth")
-names=("--threads 1 (one thread)" "one engine and a reading thread")
-for threads in $(seq 2 "$max_threads"); do
-  commands+=("$mvox extract $scratch/stack -t 128 -q -o $scratch/st$threads.ply --threads $threads")
-  names+=("--threads $threads")
-done
-hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/png.json" "${commands[@]}" > /dev/null
-table "$scratch/png.json" "${names[@]}"
-for threads in $(seq 2 "$max_threads"); do
-  cmp -s "$scratch/s1.ply" "$scratch/st$threads.ply" || { echo "$0: --threads $threads wrote a different mesh from the stack" >&2; exit 1; }
-done
-echo
+end_to_end png "$scratch/stack -t 128"
 
 echo "## Peak memory, flat in depth"
 echo

@@ -5,15 +5,10 @@
 #include "error.h"
 #include "mvox/fan_out_sink.h"
 #include "mvox/workspace_buffer.h"
+#include "pipeline/stopwatch.h"
 
 namespace mvox {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Times each sink of a FanOutSink (the mesh sink first, then the render sink) as the core tells
 // it before and after each call. A clock reading costs about as much as a small batch, and the
