@@ -16,6 +16,8 @@ class Cancellation {
  public:
   bool cancelled() const { return cancelled_.load(std::memory_order_acquire); }
   void cancel() { cancelled_.store(true, std::memory_order_release); }
+  // For set_reads_cancelled_by (read_cancellation.h): a reading thread's reads stop with it.
+  const std::atomic<bool>* flag() const { return &cancelled_; }
 
  private:
   std::atomic<bool> cancelled_{false};

@@ -1,7 +1,6 @@
 #include "pipeline/mesh_job.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -15,6 +14,7 @@
 #include "pipeline/prefetching_source.h"
 #include "pipeline/progress.h"
 #include "pipeline/slab_extraction.h"
+#include "pipeline/stopwatch.h"
 #include "pipeline/termination.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
@@ -116,7 +116,9 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
   }
   if (threads <= 1 || job.output.empty() || job.picture.wanted()) return 1;
   const std::uint64_t per_slab = slab_slices_of(info, job.slab_slices);
-  return (info.depth + per_slab - 1) / per_slab >= 2 ? threads : 1;
+  const std::uint64_t slabs = (info.depth + per_slab - 1) / per_slab;
+  // At most one worker per slab (run_slab_pipeline takes no more).
+  return slabs >= 2 ? static_cast<unsigned>(std::min<std::uint64_t>(threads, slabs)) : 1;
 }
 
 MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
@@ -286,10 +288,6 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     throw Error(job.input_label,
                 std::string("extraction failed: ") + status_message(report.result.status));
 
-  using Clock = std::chrono::steady_clock;
-  auto seconds_since = [](Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-  };
   const auto write_start = Clock::now();
   if (writer) {
     writer->complete();

@@ -63,13 +63,13 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
 // With threads = 0, volumes of this many bytes of samples or more are extracted in slabs by one
 // worker per core. Below it, starting the workers costs about what they save: measured on this
 // project's 2-core machine, two workers beat one engine with a reading thread on 64 MiB volumes
-// (1.27x raw, 1.73x a PNG stack) and lose a few per cent on the paper's 8-15 MiB ones
+// (1.2x raw, 1.6x a PNG stack) and lose a few per cent on the paper's 8-15 MiB ones
 // (docs/scaling.md).
 constexpr std::uint64_t kAutoSlabVolumeBytes = std::uint64_t{64} << 20;
 
-// The extracting threads the job will run `source` with: job.threads (for 0, as said above)
-// when the volume has at least two slabs and the job writes a mesh and no picture (the picture
-// is drawn by one engine), else 1.
+// The extracting threads the job will run `source` with: job.threads (for 0, as said above), at
+// most one per slab, when the volume has at least two slabs and the job writes a mesh and no
+// picture (the picture is drawn by one engine), else 1.
 unsigned slab_threads(const SliceSource& source, const MeshJob& job);
 
 // "123,456": large counts are easier to read with separators.

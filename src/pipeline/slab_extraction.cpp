@@ -1,6 +1,7 @@
 #include "pipeline/slab_extraction.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <exception>
@@ -17,17 +18,13 @@
 #include "picture/normal_window.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/slab_recorder.h"
+#include "pipeline/stopwatch.h"
 #include "read/range_readable.h"
+#include "read/read_cancellation.h"
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Which slices each slab takes: its own [first, end), the slice before it (the previous slab's
 // last, for begin_slab) and, with normals, one more on each side for its window.
@@ -102,10 +99,15 @@ class RunFailure {
   explicit RunFailure(std::vector<std::unique_ptr<Worker>>& workers) : workers_(workers) {}
   const Cancellation& cancellation() const { return cancellation_; }
 
+  // Any other failure: the first one is reported, unless a reading failure came before it.
+  // Failures after the run was cancelled are its consequences (a reader told to stop, a worker
+  // whose chunks were taken back), not news, whoever cancelled it (the writer, when it refuses,
+  // keeps its own error).
   void fail(std::exception_ptr error) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!first_) first_ = error;
+      if (cancellation_.cancelled()) return;
+      if (!first_ && !read_error_) first_ = error;
     }
     cancel();
   }
@@ -119,27 +121,30 @@ class RunFailure {
   void fail_reading(std::uint32_t z, std::exception_ptr error) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!read_error_ || z < read_z_) {
+      // A bad slice before this one that another worker was still to read when the run was
+      // cancelled is found by throw_if_failed(), which reads them all again.
+      if (cancellation_.cancelled()) return;
+      if (!first_ && (!read_error_ || z < read_z_)) {
         read_error_ = error;
         read_z_ = z;
       }
     }
     cancel();
   }
-  void rethrow(const RangeReadable* ranges) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (read_error_) {
-      // One thread reading in order would have failed at the first bad slice: read the slices
-      // before this one again, in order, and any failure there is the one to report.
-      if (read_z_ > 0) {
-        const std::unique_ptr<SliceSource> before = ranges->open_range(0, read_z_);
-        SliceView view;
-        while (before->next_slice(&view)) {
-        }
-      }
-      std::rethrow_exception(read_error_);
-    }
+  // Throws the failure to report, if any; call once every thread has stopped. For a reading
+  // failure at slice z, the slices before z are read again first, in order, on this thread (as
+  // long as one thread reading the volume would take to come to z): a failure among them is
+  // the one to report.
+  void throw_if_failed(const RangeReadable* ranges) {
     if (first_) std::rethrow_exception(first_);
+    if (!read_error_) return;
+    if (read_z_ > 0) {
+      const std::unique_ptr<SliceSource> before = ranges->open_range(0, read_z_);
+      SliceView view;
+      while (before->next_slice(&view)) {
+      }
+    }
+    std::rethrow_exception(read_error_);
   }
 
  private:
@@ -243,7 +248,14 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
     SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
     if (window) window->restart_at(from);
     std::unique_ptr<SliceSource> reader;  // the slab's own, when the input allows
-    if (ranges) reader = ranges->open_range(from, to);
+    if (ranges) {
+      try {
+        reader = ranges->open_range(from, to);
+      } catch (...) {
+        failure.fail_reading(from, std::current_exception());
+        return;
+      }
+    }
     for (std::uint32_t z = from; z < to; ++z) {
       std::optional<SliceItem> item;
       SliceView view;
@@ -258,7 +270,13 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
           return;
         }
         worker.read_seconds += seconds_since(read_start);
-        if (!more) throw Error(input_label, "ended before slice " + std::to_string(z));
+        if (!more) {
+          // The file changed since it was opened: as one thread reading it would say.
+          failure.fail_reading(z, std::make_exception_ptr(Error(
+                                      input_label, "ended after " + std::to_string(z) + " of its " +
+                                                       std::to_string(cuts.depth) + " slices")));
+          return;
+        }
       } else {
         item = worker.slices.pop();
         if (!item) return;
@@ -334,7 +352,11 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   cuts.depth = info.depth;
   cuts.slab_slices = slab_slices_of(info, options.slab_slices);
   cuts.extra = options.normals ? 1 : 0;
-  const std::uint32_t threads = std::max(1u, options.threads);
+  // At most one worker per slab. A pipe's slices come in order, once: one worker would get the
+  // slices that two slabs with normals share interleaved, so two take turns instead.
+  std::uint32_t threads = std::clamp(options.threads, 1u, std::max(1u, cuts.count()));
+  if (threads == 1 && options.normals && !own_range_reader(source) && cuts.count() > 1)
+    threads = 2;
   const std::size_t slice_bytes =
       std::size_t{info.width} * info.height * sample_bytes(info.type);
 
@@ -353,7 +375,14 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   const auto start = Clock::now();
   double read_seconds = 0;
   std::thread reader;
+  std::atomic<bool> reader_done{false};
   auto join_all = [&] {
+    // A cancelled run's reader may be blocked in read() on a silent pipe: wake it until it has
+    // stopped (a wake-up can land just before it enters the call, hence the repeats).
+    while (reader.joinable() && !reader_done.load()) {
+      if (failure.cancellation().cancelled()) wake_blocked_read(reader);
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
     if (reader.joinable()) reader.join();
     for (auto& worker : workers)
       if (worker->thread.joinable()) worker->thread.join();
@@ -370,13 +399,15 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
       });
     if (!ranges)
       reader = std::thread([&] {
+        set_reads_cancelled_by(failure.cancellation().flag());
         try {
           read_slices(source, cuts, workers, input_label, &read_seconds);
         } catch (...) {
           failure.fail(std::current_exception());
         }
+        reader_done = true;
       });
-  } catch (const std::system_error& error) {
+  } catch (const std::exception& error) {  // system_error, or bad_alloc for a thread's state
     failure.cancel();
     join_all();
     throw Error(input_label, std::string("cannot start the slab threads: ") + error.what());
@@ -412,7 +443,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     failure.fail(std::current_exception());
   }
   join_all();
-  failure.rethrow(ranges);
+  failure.throw_if_failed(ranges);
   for (const auto& worker : workers) read_seconds += worker->read_seconds;
 
   result.counters = replay.counters();

@@ -69,9 +69,9 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                                   const SlabOptions& options);
 
 // Extracts every slice of `source` into `mesh` as run_pipeline() does with one engine, with the
-// same result (counters summed over the slabs). Phase times overlap here: read_s is the reading
-// thread's time inside the source, write_s the caller's time inside the writer, extract_s the
-// rest of the wall time. Throws mvox::Error naming `input_label` for an engine error, a source
+// same result (counters summed over the slabs), with at most one worker per slab. Phase times
+// overlap here: read_s is the time inside the sources (the reading thread's, or the workers'
+// summed), write_s the caller's time inside the writer, extract_s the rest of the wall time. Throws mvox::Error naming `input_label` for an engine error, a source
 // that ends before its depth, or whatever the source throws; the writer's own error is left in
 // the writer (status sink_refused), as run_pipeline() leaves it.
 PipelineResult run_slab_pipeline(SliceSource& source, double threshold,

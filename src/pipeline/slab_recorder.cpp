@@ -24,9 +24,14 @@ std::size_t capacity_for(std::uint32_t batch) {
   return SlabRecorder::kChunkBytes / sizeof(T) + batch;
 }
 
+// Every call carries at least one vertex or polygon (the engine sends no empty batch), so a
+// chunk handed on at kChunkBytes holds fewer calls than that many bytes of its smallest item.
+std::size_t calls_capacity() { return SlabRecorder::kChunkBytes / sizeof(Vertex) + 3; }
+
 }  // namespace
 
 void SlabChunk::reserve(const EngineOptions& engine, bool with_normals) {
+  calls.reserve(calls_capacity());
   vertices.reserve(capacity_for<Vertex>(engine.vertices_per_batch));
   if (with_normals) normals.reserve(capacity_for<glm::vec3>(engine.vertices_per_batch));
   polygons.reserve(capacity_for<Polygon>(engine.polygons_per_batch));
@@ -35,7 +40,8 @@ void SlabChunk::reserve(const EngineOptions& engine, bool with_normals) {
 }
 
 std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine, bool with_normals) {
-  std::size_t bytes = capacity_for<Vertex>(engine.vertices_per_batch) * sizeof(Vertex) +
+  std::size_t bytes = calls_capacity() * sizeof(SlabChunk::Call) +
+                      capacity_for<Vertex>(engine.vertices_per_batch) * sizeof(Vertex) +
                       capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
   if (with_normals)
     bytes += capacity_for<glm::vec3>(engine.vertices_per_batch) * sizeof(glm::vec3);
@@ -126,7 +132,8 @@ Status SlabReplay::replay(SlabChunk& chunk) {
       case SlabChunk::Kind::polygons: {
         Polygon* polygons = chunk.polygons.data() + polygon_at;
         // Local index i < shared: the previous slab's last slice's vertex shared_base + i;
-        // any other: this slab's own vertex slab_base + i - shared.
+        // any other: this slab's own vertex slab_base + i - shared. In 32 bits: the writer has
+        // refused the vertices before an index could pass 2^31 (kMaxVertexCount), so none wraps.
         const auto own = static_cast<std::uint32_t>(slab_base_ - shared_);
         if (call.own_vertices_only) {
           for (std::uint32_t i = 0; i < call.count; ++i)

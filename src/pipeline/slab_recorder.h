@@ -86,7 +86,9 @@ class SlabRecorder final : public PolygonSink {
   // into a fresh chunk. False when the run is cancelled.
   bool start(std::uint64_t shared_vertices);
   // From here on, the slab's polygons refer only to its own vertices: call after the engine
-  // has taken the slab's first slice (the layer that joins it to the slice before).
+  // has taken the slab's first slice (the layer that joins it to the slice before). Exact
+  // because the engine hands on all of a layer's polygons before push_slice() returns
+  // (Engine::emit_layer flushes its batches).
   void own_vertices_only() { own_only_ = true; }
   // Ends the slab: its last chunk carries `summary`.
   void end(const SlabSummary& summary);

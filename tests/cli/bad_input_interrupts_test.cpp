@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -130,6 +131,36 @@ TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
   EXPECT_NE(ending.errors.find("mvox: error: frames/frame_0005.png: "), std::string::npos)
       << ending.errors;
   EXPECT_EQ(std::count(ending.errors.begin(), ending.errors.end(), '\n'), 1) << ending.errors;
+  test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
+}
+
+// The same with slab threads: a writer that fails (no space on /dev/full) while the thread that
+// fans the FIFO's slices out to the workers is blocked in read() for the seventh slice.
+TEST_F(BadInput, AnErrorWhileSlabThreadsReadAnOpenPipeEndsTheRunAtOnce) {
+  ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
+  const std::vector<std::string> job = {
+      "extract", "volume.raw", "--raw", std::to_string(kSide) + "x" + std::to_string(kSide) + "x" +
+      std::to_string(kDepth) + ":u8", "-t", "128", "-o", "/dev/full", "--format", "obj",
+      "--threads", "2", "--slab-slices", "4", "-q"};
+  const auto before = test::tree_snapshot(dir_.path());
+  MvoxProcess mvox(job, dir_.path());
+  FifoWriter fifo(dir_ / "volume.raw");
+  // Six slices of noise: the first slab's OBJ text fills the writer's buffer many times over,
+  // and the reader has given the second slab all it has.
+  std::uint64_t state = 11;
+  for (int z = 0; z < 6; ++z) {
+    std::string slice(kSide * kSide, '\0');
+    for (char& c : slice) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      c = static_cast<char>(state >> 56);
+    }
+    ASSERT_TRUE(fifo.write(slice)) << "slice " << z;
+  }
+  // finish() fails the test if mvox takes 60 s: it would wait for the FIFO to close.
+  const MvoxProcess::Ending ending = mvox.finish();
+  fifo.close();
+  EXPECT_EQ(ending.exit_code, 1);
+  EXPECT_EQ(ending.errors, "mvox: error: /dev/full: write failed: No space left on device\n");
   test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 

@@ -110,8 +110,9 @@ const std::string kVolume = "extract volume.raw --raw 1024x1024x6:u16le -t 50000
 // What the plan promises is what the run takes: never more (the plan is an upper bound, so a
 // budget holds), and not grossly less (so the plan is worth reading). Slices of 2 MiB dominate.
 TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
-  // The last two cut the 6 slices into two slabs extracted by two and three threads: the plan
-  // then counts each worker's slices, workspace and recorded output.
+  // The last two cut the 6 slices into two slabs extracted by two workers (three asked for: at
+  // most one per slab): the plan then counts each worker's reader, workspace and recorded
+  // output.
   for (const std::string outputs :
        {" -o mesh.ply", " -o mesh.ply --image picture.png", " -o mesh.stl",
         " -o mesh.obj --normals", " -o mesh.ply --threads 2 --slab-slices 4",

@@ -108,7 +108,8 @@ TEST(SlabThreads, OneThreadMeansNoReadingAndNoWritingThread) {
   EXPECT_EQ(threads_started(run + " --threads 1", dir), 1);
   const std::string one = test::read_bytes(dir.path() / "m.ply");
   ASSERT_GT(one.size(), std::size_t{4} << 20);
-  // The same run with two: a reader, a writer, and the slab workers (40 slices of 4 each).
+  // The same run with two: the slab workers (40 slices, 4 a slab), which read the file
+  // themselves, and the writer's thread.
   EXPECT_GE(threads_started(run + " --threads 2 --slab-slices 4", dir), 4);
   EXPECT_EQ(test::read_bytes(dir.path() / "m.ply"), one);
 }
