@@ -366,7 +366,8 @@ class Volume {
 Mesh extract_file(const py::object& paths, double threshold, const std::optional<std::string>& raw,
                   const std::optional<std::array<double, 3>>& spacing,
                   const std::optional<std::array<double, 3>>& origin, const std::string& method,
-                  bool triangulate, bool normals) {
+                  bool triangulate, bool normals, unsigned threads) {
+  if (threads < 1) throw py::value_error("threads must be 1 or more");
   // Listed once: `paths` may be a generator.
   const std::vector<std::string> list = input_paths(paths);
   OpenedInput input = open_paths(list, raw);
@@ -382,6 +383,7 @@ Mesh extract_file(const py::object& paths, double threshold, const std::optional
   }
   options.triangulate = triangulate;
   options.normals = normals;
+  options.threads = threads;
   const std::string label = list.size() == 1 ? list.front() : list.front() + " ...";
   ArrayExtraction result;
   {
@@ -555,8 +557,11 @@ command line's message.)");
   m.def("extract_file", &extract_file, py::arg("path_or_paths"), py::arg("threshold"),
         py::arg("raw") = py::none(), py::arg("spacing") = py::none(),
         py::arg("origin") = py::none(), py::arg("method") = "voxels",
-        py::arg("triangulate") = false, py::arg("normals") = false,
+        py::arg("triangulate") = false, py::arg("normals") = false, py::arg("threads") = 1,
         R"(The surface of a file or stack, streamed slice by slice without building the volume in
 Python: the mesh `mvox extract INPUT -t threshold -o mesh.ply` writes, as an mvox.Mesh, placed
-by the input's own spacing, origin and axes unless spacing or origin are given.)");
+by the input's own spacing, origin and axes unless spacing or origin are given.
+
+threads: above 1, slabs of slices are read, decoded and extracted on that many threads, as
+`mvox extract --threads N` does; the mesh is the same, bit for bit.)");
 }

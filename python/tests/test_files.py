@@ -92,3 +92,23 @@ def test_paths_may_come_from_a_generator(tmp_path):
     (tmp_path / "v.raw").write_bytes(volume.tobytes())
     mesh = mvox.extract_file((p for p in [tmp_path / "v.raw"]), 100, raw="13x11x9:u8")
     assert mesh.vertices.tobytes() == mvox.extract(volume, 100).vertices.tobytes()
+
+
+@pytest.mark.parametrize("options", [{}, {"triangulate": True, "normals": True}])
+def test_threads_give_the_same_mesh(tmp_path, options):
+    # Noise, so that the surface crosses every slab boundary; 300 slices of 24x20 make 3 slabs.
+    volume = np.random.default_rng(5).integers(0, 256, size=(300, 20, 24), dtype=np.uint8)
+    (tmp_path / "v.raw").write_bytes(volume.tobytes())
+    one = mvox.extract_file(tmp_path / "v.raw", 128, raw="24x20x300:u8", **options)
+    assert len(one.polygon_offsets) > 1000
+    for threads in (2, 3):
+        many = mvox.extract_file(tmp_path / "v.raw", 128, raw="24x20x300:u8", threads=threads,
+                                 **options)
+        assert many.vertices.tobytes() == one.vertices.tobytes()
+        assert np.array_equal(many.polygon_offsets, one.polygon_offsets)
+        assert np.array_equal(many.polygon_indices, one.polygon_indices)
+        if options:
+            assert many.normals.tobytes() == one.normals.tobytes()
+            assert np.array_equal(many.faces, one.faces)
+    with pytest.raises(ValueError, match="threads"):
+        mvox.extract_file(tmp_path / "v.raw", 128, raw="24x20x300:u8", threads=0)

@@ -11,6 +11,7 @@
 #include "error.h"
 #include "picture/normal_window.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/slab_extraction.h"
 
 namespace mvox {
 namespace {
@@ -146,8 +147,11 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
   std::optional<NormalWindow> window;
   const std::array<double, 3> spacing = {options.placement.spacing[0], options.placement.spacing[1],
                                          options.placement.spacing[2]};
-  if (!options.normals && !options.triangulate && options.placement.is_axis_aligned() &&
-      !options.placement.mirrors()) {
+  // Slabs when asked and the volume has two or more.
+  const std::uint32_t slab_slices = slab_slices_of(volume, 0);
+  const bool slabs = options.threads > 1 && volume.depth > slab_slices;
+  if (!slabs && !options.normals && !options.triangulate &&
+      options.placement.is_axis_aligned() && !options.placement.mirrors()) {
     AlignedArraysSink sink(options.placement, volume.depth, label);
     const PipelineResult result =
         run_pipeline(source, options.threshold, options.engine, sink, label);
@@ -159,19 +163,29 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
     sink.trim();
     return ArrayExtraction{std::move(sink.mesh()), result.counters};
   }
-  if (options.normals) window.emplace(volume, spacing, label);
+  if (options.normals && !slabs) window.emplace(volume, spacing, label);
   MeshWriterOptions mesh;
   mesh.transform = options.placement;
   mesh.triangulate = options.triangulate;
   mesh.normals = window ? &window->normals() : nullptr;
+  mesh.normals_given = options.normals && slabs;  // each slab computes its own
   MeshArraysWriter writer(mesh, label);
   EngineOptions engine = options.engine;
   if (writer.needs_polygon_geometry()) engine.polygon_geometry = true;
 
-  PipelineSinks sinks;
-  sinks.mesh = &writer;
-  if (window) sinks.window = &window->window();
-  const PipelineResult result = run_pipeline(source, options.threshold, engine, sinks, label);
+  PipelineResult result;
+  if (slabs) {
+    SlabOptions slab_options;
+    slab_options.threads = options.threads;
+    slab_options.normals = options.normals;
+    slab_options.spacing = spacing;
+    result = run_slab_pipeline(source, options.threshold, engine, writer, slab_options, label);
+  } else {
+    PipelineSinks sinks;
+    sinks.mesh = &writer;
+    if (window) sinks.window = &window->window();
+    result = run_pipeline(source, options.threshold, engine, sinks, label);
+  }
   if (result.status == Status::sink_refused && writer.error()) throw *writer.error();
   if (result.status != Status::ok)
     throw Error(label, std::string("extraction failed: ") + status_message(result.status));

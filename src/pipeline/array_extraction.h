@@ -17,6 +17,10 @@ struct ArrayExtractionOptions {
   WorldTransform placement;
   bool triangulate = false;  // faces as triangles (polygon_triangulation.h), as --triangulate
   bool normals = false;      // gradient normals per vertex, as --normals
+  // Above 1: slabs extracted on that many threads (slab_extraction.h), the same arrays. Pays
+  // where reading does (files decoded by each thread for its own slabs): in memory, the arrays
+  // are built by one thread in order, which two workers do not outrun.
+  unsigned threads = 1;
 };
 
 struct ArrayExtraction {
@@ -27,7 +31,7 @@ struct ArrayExtraction {
 // Streams every slice of `source` through the engine into arrays. Throws mvox::Error naming
 // `label` (the input, or the calling function) when the engine refuses the source or the mesh
 // cannot be built. Memory: the engine's workspace and, with normals, four slices, plus the
-// arrays.
+// arrays; with threads, that per worker and its recorded output (slab_pipeline_bytes()).
 ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOptions& options,
                                   const std::string& label);
 
