@@ -6,7 +6,6 @@
 #include <cstring>
 #include <exception>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <system_error>
 #include <thread>
@@ -18,6 +17,7 @@
 #include "picture/normal_window.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/slab_recorder.h"
+#include "pipeline/slab_run_failure.h"
 #include "pipeline/stopwatch.h"
 #include "read/range_readable.h"
 #include "read/read_cancellation.h"
@@ -93,69 +93,6 @@ struct Worker final : SlabRecorder::Handover {
   double read_seconds = 0;  // inside its own slab readers
 };
 
-// The first failure of any thread, and the cancellation that stops the others.
-class RunFailure {
- public:
-  explicit RunFailure(std::vector<std::unique_ptr<Worker>>& workers) : workers_(workers) {}
-  const Cancellation& cancellation() const { return cancellation_; }
-
-  // Any other failure: the first one is reported, unless a reading failure came before it.
-  // Failures after the run was cancelled are its consequences (a reader told to stop, a worker
-  // whose chunks were taken back), not news, whoever cancelled it (the writer, when it refuses,
-  // keeps its own error).
-  void fail(std::exception_ptr error) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (cancellation_.cancelled()) return;
-      if (!first_ && !read_error_) first_ = error;
-    }
-    cancel();
-  }
-  void cancel() {
-    cancellation_.cancel();
-    for (auto& worker : workers_) worker->wake();
-  }
-  // A worker reading its own slices failed at slice z. Workers read in parallel, so the first
-  // failure to arrive need not be the first slice in the volume that fails; rethrow() sees to
-  // that.
-  void fail_reading(std::uint32_t z, std::exception_ptr error) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      // A bad slice before this one that another worker was still to read when the run was
-      // cancelled is found by throw_if_failed(), which reads them all again.
-      if (cancellation_.cancelled()) return;
-      if (!first_ && (!read_error_ || z < read_z_)) {
-        read_error_ = error;
-        read_z_ = z;
-      }
-    }
-    cancel();
-  }
-  // Throws the failure to report, if any; call once every thread has stopped. For a reading
-  // failure at slice z, the slices before z are read again first, in order, on this thread (as
-  // long as one thread reading the volume would take to come to z): a failure among them is
-  // the one to report.
-  void throw_if_failed(const RangeReadable* ranges) {
-    if (first_) std::rethrow_exception(first_);
-    if (!read_error_) return;
-    if (read_z_ > 0) {
-      const std::unique_ptr<SliceSource> before = ranges->open_range(0, read_z_);
-      SliceView view;
-      while (before->next_slice(&view)) {
-      }
-    }
-    std::rethrow_exception(read_error_);
-  }
-
- private:
-  std::vector<std::unique_ptr<Worker>>& workers_;
-  Cancellation cancellation_;
-  std::mutex mutex_;
-  std::exception_ptr first_;
-  std::exception_ptr read_error_;
-  std::uint32_t read_z_ = 0;
-};
-
 SliceView packed_view(const VolumeInfo& info, const std::vector<unsigned char>& samples) {
   SliceView view;
   view.samples = samples.data();
@@ -211,7 +148,7 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
 void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
                    const SlabCuts& cuts, const VolumeInfo& info, double threshold,
                    const EngineOptions& options, const RangeReadable* ranges,
-                   RunFailure& failure, const std::string& input_label) {
+                   SlabRunFailure& failure, const std::string& input_label) {
   const Cancellation& cancellation = failure.cancellation();
   const VertexNormals* normals = worker.normals ? &worker.normals->normals() : nullptr;
   SlabRecorder recorder(worker, normals, options.polygon_geometry);
@@ -363,11 +300,14 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   const RangeReadable* ranges = own_range_reader(source);
 
   std::vector<std::unique_ptr<Worker>> workers;
-  RunFailure failure(workers);
+  SlabRunFailure failure([&workers] {
+    for (auto& worker : workers) worker->wake();
+  });
   for (std::uint32_t w = 0; w < threads; ++w) {
-    workers.push_back(
-        std::make_unique<Worker>(failure.cancellation(), slice_bytes,
-                                 ranges ? 0 : slab_buffer_slices(cuts.slab_slices, options.normals),
+    // Workers that read their own slices need no slice buffers from the fan-out.
+    const std::uint32_t buffers =
+        ranges ? 0 : slab_buffer_slices(cuts.slab_slices, options.normals);
+    workers.push_back(std::make_unique<Worker>(failure.cancellation(), slice_bytes, buffers,
                                                result.workspace_bytes, engine, options.normals));
     if (options.normals) workers.back()->normals.emplace(info, options.spacing, input_label);
   }
