@@ -268,6 +268,12 @@ tour "raw slice of the wrong size" \
   "mvox extract raw --raw 12x10:u8 -t 1 $outputs"
 tour "unknown --method" "" "mvox extract stack -t 128 --method foo $outputs"
 tour "unknown --surface" "" "mvox extract stack -t 128 --surface foo $outputs"
+# Slab threads (a mesh without a picture): workers decode their own slabs in parallel, and the
+# first bad slice in the stack is the one named, as with one thread.
+tour "bad slices in two slabs, 8 threads" \
+  "head -c 300 /dev/urandom > stack/sphere_0002.png; truncate -s 40 stack/sphere_0005.png" \
+  "mvox extract stack -t 128 -o previous.ply --stats previous.json -q --threads 8 --slab-slices 4"
+tour "--threads 0" "" "mvox extract stack -t 128 --threads 0 $outputs"
 tour "unknown --raw type" "" "mvox extract stack --raw 12x10:u7 -t 128 $outputs"
 tour "bad --image-size" "" "mvox extract stack -t 128 --image-size 0x0 $outputs"
 # Numbers that are not what they seem (NaN passes a range check, sscanf and strtoull wrap).
