@@ -56,7 +56,7 @@ struct SliceItem {
 struct Worker final : SlabRecorder::Handover {
   Worker(const Cancellation& cancellation, std::size_t slice_bytes, std::uint32_t buffer_slices,
          std::size_t workspace_bytes,
-         const EngineOptions& engine, bool with_normals)
+         const EngineOptions& engine)
       : slices(cancellation),
         free_slices(cancellation),
         full_chunks(cancellation),
@@ -66,7 +66,7 @@ struct Worker final : SlabRecorder::Handover {
         workspace(workspace_bytes) {
     for (auto& samples : slice_storage) free_slices.push(&samples);
     for (auto& chunk : chunk_storage) {
-      chunk.reserve(engine, with_normals);
+      chunk.reserve(engine);
       free_chunks.push(&chunk);
     }
   }
@@ -147,11 +147,12 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
 // Runs the engine over every slab this worker takes: slabs w, w + threads, ...
 void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
                    const SlabCuts& cuts, const VolumeInfo& info, double threshold,
-                   const EngineOptions& options, const RangeReadable* ranges,
+                   const EngineOptions& options, const VertexPlacement& placement,
+                   const RangeReadable* ranges,
                    SlabRunFailure& failure, const std::string& input_label) {
   const Cancellation& cancellation = failure.cancellation();
   const VertexNormals* normals = worker.normals ? &worker.normals->normals() : nullptr;
-  SlabRecorder recorder(worker, normals, options.polygon_geometry);
+  SlabRecorder recorder(worker, placement, normals, options.polygon_geometry);
   auto check = [&](Status status) {
     if (status == Status::ok) return true;
     if (cancellation.cancelled()) return false;  // the recorder found the run cancelled
@@ -271,7 +272,8 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                                               options.normals)} *
                  slice) +
       (options.normals ? kSliceWindowDepth * slice : 0) +
-      kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.normals);
+      kChunksPerWorker * SlabChunk::reserved_bytes(engine) +
+      (options.normals ? std::uint64_t{engine.vertices_per_batch} * sizeof(glm::vec3) : 0);
   return per_worker * options.threads;
 }
 
@@ -308,7 +310,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     const std::uint32_t buffers =
         ranges ? 0 : slab_buffer_slices(cuts.slab_slices, options.normals);
     workers.push_back(std::make_unique<Worker>(failure.cancellation(), slice_bytes, buffers,
-                                               result.workspace_bytes, engine, options.normals));
+                                               result.workspace_bytes, engine));
     if (options.normals) workers.back()->normals.emplace(info, options.spacing, input_label);
   }
 
@@ -331,8 +333,8 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     for (std::uint32_t w = 0; w < threads; ++w)
       workers[w]->thread = std::thread([&, w] {
         try {
-          extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine, ranges, failure,
-                        input_label);
+          extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine, mesh.placement(),
+                        ranges, failure, input_label);
         } catch (...) {
           failure.fail(std::current_exception());
         }

@@ -6,6 +6,7 @@ namespace mvox {
 
 void SlabChunk::clear() {
   calls.clear();
+  placed.clear();
   vertices.clear();
   normals.clear();
   polygons.clear();
@@ -30,25 +31,29 @@ std::size_t calls_capacity() { return SlabRecorder::kChunkBytes / sizeof(Vertex)
 
 }  // namespace
 
-void SlabChunk::reserve(const EngineOptions& engine, bool with_normals) {
+void SlabChunk::reserve(const EngineOptions& engine) {
   calls.reserve(calls_capacity());
-  vertices.reserve(capacity_for<Vertex>(engine.vertices_per_batch));
-  if (with_normals) normals.reserve(capacity_for<glm::vec3>(engine.vertices_per_batch));
+  placed.reserve(capacity_for<WorldVertex>(engine.vertices_per_batch));
   polygons.reserve(capacity_for<Polygon>(engine.polygons_per_batch));
   if (engine.polygon_geometry)
     geometry.reserve(capacity_for<PolygonGeometry>(engine.polygons_per_batch));
 }
 
-std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine, bool with_normals) {
+std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine) {
   std::size_t bytes = calls_capacity() * sizeof(SlabChunk::Call) +
-                      capacity_for<Vertex>(engine.vertices_per_batch) * sizeof(Vertex) +
+                      capacity_for<WorldVertex>(engine.vertices_per_batch) * sizeof(WorldVertex) +
                       capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
-  if (with_normals)
-    bytes += capacity_for<glm::vec3>(engine.vertices_per_batch) * sizeof(glm::vec3);
   if (engine.polygon_geometry)
     bytes += capacity_for<PolygonGeometry>(engine.polygons_per_batch) * sizeof(PolygonGeometry);
   return bytes;
 }
+
+SlabRecorder::SlabRecorder(Handover& handover, const VertexPlacement& placement,
+                           const VertexNormals* normals, bool geometry_follows)
+    : handover_(handover),
+      placement_(placement),
+      normals_(normals),
+      geometry_follows_(geometry_follows) {}
 
 bool SlabRecorder::start(std::uint64_t shared_vertices) {
   own_only_ = false;
@@ -77,13 +82,26 @@ bool SlabRecorder::after_call() {
 // so every call catches and refuses (the worker then reports the engine's sink_refused).
 Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count) {
   try {
-    chunk_->calls.push_back(
-        {SlabChunk::Kind::vertices, own_only_, static_cast<std::uint32_t>(count)});
-    chunk_->vertices.insert(chunk_->vertices.end(), vertices, vertices + count);
+    const glm::vec3* normals = nullptr;
     if (normals_) {
-      const std::size_t first = chunk_->normals.size();
-      chunk_->normals.resize(first + count);
-      normals_->compute(vertices, count, chunk_->normals.data() + first);
+      batch_normals_.resize(count);
+      normals_->compute(vertices, count, batch_normals_.data());
+      normals = batch_normals_.data();
+    }
+    const std::size_t first = chunk_->placed.size();
+    chunk_->placed.resize(first + count);
+    const std::size_t outside = placement_.place(vertices, normals, count, &chunk_->placed[first]);
+    if (outside == count) {
+      chunk_->calls.push_back(
+          {SlabChunk::Kind::placed_vertices, own_only_, static_cast<std::uint32_t>(count)});
+    } else {
+      // Left for the writer, which refuses the batch naming the vertex by its index in the
+      // whole mesh, as with one thread.
+      chunk_->placed.resize(first);
+      chunk_->calls.push_back(
+          {SlabChunk::Kind::vertices, own_only_, static_cast<std::uint32_t>(count)});
+      chunk_->vertices.insert(chunk_->vertices.end(), vertices, vertices + count);
+      if (normals) chunk_->normals.insert(chunk_->normals.end(), normals, normals + count);
     }
     return after_call() ? Status::ok : Status::sink_refused;
   } catch (...) {
@@ -119,10 +137,14 @@ Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, s
 
 Status SlabReplay::replay(SlabChunk& chunk) {
   if (chunk.first) shared_ = chunk.shared_vertices;
-  std::size_t vertex_at = 0, polygon_at = 0, geometry_at = 0;
+  std::size_t placed_at = 0, vertex_at = 0, polygon_at = 0, geometry_at = 0;
   for (const SlabChunk::Call& call : chunk.calls) {
     Status status = Status::ok;
     switch (call.kind) {
+      case SlabChunk::Kind::placed_vertices:
+        status = mesh_.consume_placed_vertices(chunk.placed.data() + placed_at, call.count);
+        placed_at += call.count;
+        break;
       case SlabChunk::Kind::vertices:
         status = mesh_.consume_vertices_with_normals(
             chunk.vertices.data() + vertex_at,

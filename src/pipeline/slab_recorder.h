@@ -15,6 +15,7 @@
 #include "mvox/engine.h"
 #include "mvox/polygon_sink.h"
 #include "mvox/vertex_normals.h"
+#include "write/mesh/vertex_placement.h"
 
 namespace mvox {
 
@@ -29,7 +30,10 @@ struct SlabSummary {
 };
 
 struct SlabChunk {
-  enum class Kind : std::uint8_t { vertices, polygons, geometry };
+  // placed_vertices: a vertex batch the worker placed (VertexPlacement); vertices: one left
+  // for the writer to place, because a vertex leaves float's range there (the writer then
+  // refuses it, naming the vertex as one thread would).
+  enum class Kind : std::uint8_t { placed_vertices, vertices, polygons, geometry };
   struct Call {
     Kind kind;
     // Polygons emitted after the slab's first layer: none refers to a shared vertex, so that
@@ -38,8 +42,9 @@ struct SlabChunk {
     std::uint32_t count;
   };
   std::vector<Call> calls;
-  std::vector<Vertex> vertices;
-  std::vector<glm::vec3> normals;  // one per vertex when the slab computes normals
+  std::vector<WorldVertex> placed;
+  std::vector<Vertex> vertices;    // batches left unplaced (reserved only when needed)
+  std::vector<glm::vec3> normals;  // theirs, when the slab computes normals
   std::vector<Polygon> polygons;
   std::vector<PolygonGeometry> geometry;
   bool first = false;  // the slab's first chunk: `shared_vertices` is valid
@@ -48,24 +53,26 @@ struct SlabChunk {
   SlabSummary summary;
 
   std::size_t bytes() const {
-    return vertices.size() * sizeof(Vertex) + normals.size() * sizeof(glm::vec3) +
-           polygons.size() * sizeof(Polygon) + geometry.size() * sizeof(PolygonGeometry);
+    return placed.size() * sizeof(WorldVertex) + vertices.size() * sizeof(Vertex) +
+           normals.size() * sizeof(glm::vec3) + polygons.size() * sizeof(Polygon) +
+           geometry.size() * sizeof(PolygonGeometry);
   }
   // Empties it for reuse; the vectors keep their capacity, so memory stays what it was.
   void clear();
   // Gives each array room for everything a chunk can hold (SlabRecorder::kChunkBytes and one
   // more batch of the engine's), so that filling it never reallocates: the memory a chunk takes
   // is then the pages it has touched, and no freed copy is left behind in the allocator.
-  void reserve(const EngineOptions& engine, bool with_normals);
+  void reserve(const EngineOptions& engine);
   // The bytes reserve() gives: the most a chunk's arrays take once a run has touched them all
   // (one chunk may fill its vertices, the next its polygons).
-  static std::size_t reserved_bytes(const EngineOptions& engine, bool with_normals);
+  static std::size_t reserved_bytes(const EngineOptions& engine);
 };
 
 // The sink a slab's engine writes into: appends each call to the current chunk and, when the
 // chunk holds kChunkBytes or more, hands it on with `full(chunk)` and takes an empty one with
-// `take()`. With `normals`, each vertex batch's normals are computed as it arrives, while the
-// slab's window holds the slices around it.
+// `take()`. Vertex batches are placed as the writer would place them (`placement`, the
+// writer's), here, in parallel; with `normals`, each batch's normals are computed as it
+// arrives, while the slab's window holds the slices around it.
 class SlabRecorder final : public PolygonSink {
  public:
   static constexpr std::size_t kChunkBytes = std::size_t{512} << 10;
@@ -79,8 +86,8 @@ class SlabRecorder final : public PolygonSink {
 
   // `geometry_follows`: the engine sends a geometry batch after each polygon batch
   // (EngineOptions::polygon_geometry), and the pair is kept in one chunk.
-  SlabRecorder(Handover& handover, const VertexNormals* normals, bool geometry_follows)
-      : handover_(handover), normals_(normals), geometry_follows_(geometry_follows) {}
+  SlabRecorder(Handover& handover, const VertexPlacement& placement,
+               const VertexNormals* normals, bool geometry_follows);
 
   // Starts recording a slab, whose engine numbered `shared_vertices` vertices it does not emit,
   // into a fresh chunk. False when the run is cancelled.
@@ -102,7 +109,10 @@ class SlabRecorder final : public PolygonSink {
   bool after_call();
 
   Handover& handover_;
+  const VertexPlacement& placement_;
   const VertexNormals* normals_;
+  // One vertex batch's normals before they are placed: at most EngineOptions::vertices_per_batch.
+  std::vector<glm::vec3> batch_normals_;
   bool geometry_follows_;
   bool own_only_ = false;
   SlabChunk* chunk_ = nullptr;

@@ -31,8 +31,7 @@ MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, Positions 
       positions_needed_(positions == Positions::needed),
       needs_geometry_(triangulate_ || positions_needed_),
       mirrors_(options_.transform.mirrors()),
-      axis_aligned_(options_.transform.is_axis_aligned()),
-      normal_matrix_(options_.transform.normal_matrix()),
+      placement_(options_.transform, options_.writes_normals()),
       faces_(kFacesPerRun),
       face_positions_(positions_needed_ ? kFacesPerRun : 0) {}
 
@@ -77,35 +76,28 @@ Status MeshWriter::consume_vertices_with_normals(const Vertex* vertices, const g
 void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,
                                 std::size_t vertex_count) {
   vertex_batch_.resize(vertex_count);
-  const bool with_normals = options_.writes_normals();
-  const glm::vec3* computed = given;
+  const glm::vec3* normals = given;
   if (options_.normals != nullptr) {
     normal_batch_.resize(vertex_count);
     options_.normals->compute(vertices, vertex_count, normal_batch_.data());
-    computed = normal_batch_.data();
+    normals = normal_batch_.data();
   }
-  for (std::size_t i = 0; i < vertex_count; ++i) {
-    const Vertex& vertex = vertices[i];
-    const Vector3d world =
-        axis_aligned_ ? options_.transform.axis_aligned_position(vertex.x, vertex.y, vertex.z)
-                      : options_.transform.position(vertex.x, vertex.y, vertex.z);
-    WorldVertex& out = vertex_batch_[i];
-    for (int axis = 0; axis < 3; ++axis) {
-      // Converting a double beyond float's range is undefined behaviour, so check first.
-      if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max())) {
-        throw Error(subject(), "vertex " + std::to_string(vertex_count_ + i) +
-                                   " lies outside the float range after spacing and origin");
-      }
-      out.position[axis] = static_cast<float>(world[axis]);
-    }
-    if (with_normals) {
-      // Identity axes keep the normal exactly as computed: renormalising would change it by an
-      // ulp for nothing.
-      const glm::vec3 normal =
-          axis_aligned_ ? computed[i] : world_normal(normal_matrix_, computed[i]);
-      for (int axis = 0; axis < 3; ++axis) out.normal[axis] = normal[axis];
-    }
+  const std::size_t outside = placement_.place(vertices, normals, vertex_count, vertex_batch_.data());
+  if (outside < vertex_count) {
+    throw Error(subject(), "vertex " + std::to_string(vertex_count_ + outside) +
+                               " lies outside the float range after spacing and origin");
   }
+}
+
+Status MeshWriter::consume_placed_vertices(const WorldVertex* vertices, std::size_t vertex_count) {
+  return guarded("vertices", [&] {
+    if (vertex_count > kMaxVertexCount - vertex_count_) {
+      throw Error(subject(), "more than " + std::to_string(kMaxVertexCount) +
+                                 " vertices, which 32-bit signed indices cannot address");
+    }
+    write_vertices(vertices, vertex_count);
+    vertex_count_ += vertex_count;
+  });
 }
 
 void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count) const {

@@ -10,6 +10,7 @@
 #include "error.h"
 #include "mvox/polygon_sink.h"
 #include "mvox/vertex_normals.h"
+#include "write/mesh/vertex_placement.h"
 #include "write/mesh/world_transform.h"
 #include "write/output_file.h"
 
@@ -34,12 +35,6 @@ struct MeshWriterOptions {
   bool triangulate = false;
   // Make the file durable before it appears (OutputFile's `sync`, --sync).
   bool sync = false;
-};
-
-// A vertex as written: its world position, and its world normal when the options have normals.
-struct WorldVertex {
-  float position[3] = {};
-  float normal[3] = {};
 };
 
 // The world positions of one face's vertices, in the face's order, for writers that asked for
@@ -78,6 +73,12 @@ class MeshWriter : public PolygonSink {
   // vertex's outward unit normal in the volume's axes, as VertexNormals computes it.
   Status consume_vertices_with_normals(const Vertex* vertices, const glm::vec3* normals,
                                        std::size_t vertex_count);
+  // consume_vertices() for vertices the caller has placed with placement() already (slab
+  // workers do, in parallel), normals included when the options have them.
+  Status consume_placed_vertices(const WorldVertex* vertices, std::size_t vertex_count);
+  // How this writer places vertices: positions by the options' transform, normals when it
+  // writes them.
+  const VertexPlacement& placement() const { return placement_; }
 
   // Completes and commits the file. Throws the remembered error of a refused batch, or any
   // error of its own; throws if called twice.
@@ -136,8 +137,7 @@ class MeshWriter : public PolygonSink {
   bool positions_needed_;
   bool needs_geometry_;
   bool mirrors_;
-  bool axis_aligned_;
-  Matrix3d normal_matrix_{};
+  VertexPlacement placement_;
   std::vector<glm::vec3> normal_batch_;
   std::vector<WorldVertex> vertex_batch_;
   // kFacesPerRun faces (and their positions, if needed), the first face_fill_ in use.

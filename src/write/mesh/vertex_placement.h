@@ -1,0 +1,43 @@
+#pragma once
+// Where a vertex lands in a written mesh: its world position through the placement (spacing,
+// origin, axes) and its normal turned into world axes. MeshWriter places every batch it is
+// given; slab workers place their own batches before the writer takes them
+// (pipeline/slab_recorder.h), so that this work runs in parallel, with the same floats.
+#include <cstddef>
+
+#include <glm/vec3.hpp>
+
+#include "mvox/mesh.h"
+#include "write/mesh/world_transform.h"
+
+namespace mvox {
+
+// A vertex as written: its world position, and its world normal when the mesh has normals.
+struct WorldVertex {
+  float position[3] = {};
+  float normal[3] = {};
+};
+
+// Immutable once made: any number of threads may place with one.
+class VertexPlacement {
+ public:
+  // `transform` must pass its check(). `with_normals`: place() takes and turns normals.
+  VertexPlacement(const WorldTransform& transform, bool with_normals);
+
+  // Places `count` vertices into `out`, with `normals` (one per vertex, in the spaced voxel
+  // frame, as VertexNormals computes them) when with_normals. Returns the index of the first
+  // vertex whose position leaves float's range (converting it would be undefined behaviour),
+  // whose place and those after it are left unset, or `count` when every one fits.
+  std::size_t place(const Vertex* vertices, const glm::vec3* normals, std::size_t count,
+                    WorldVertex* out) const;
+
+  bool with_normals() const { return with_normals_; }
+
+ private:
+  WorldTransform transform_;
+  bool axis_aligned_;
+  Matrix3d normal_matrix_;
+  bool with_normals_;
+};
+
+}  // namespace mvox
