@@ -9,7 +9,8 @@
 // parallel too; otherwise one more thread reads the source once, in order, and hands each
 // slice to the workers whose slabs need it (a slab also needs the slice before it, and with
 // normals one more on each side). A worker records what its engine emits in chunks of about
-// half a MiB (slab_recorder.h) and hands them to the writer, which takes them slab by slab.
+// half a MiB, its vertices already placed with the writer's VertexPlacement (slab_recorder.h),
+// and hands them to the writer, which takes them slab by slab.
 //
 // Memory is fixed, whatever the depth: per worker an engine workspace, a slice window when
 // normals are wanted, its own slab reader or a slab's slice buffers (slab_buffer_slices), and
