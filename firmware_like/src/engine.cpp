@@ -931,14 +931,19 @@ Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_sl
   return ok ? Status::ok : emitter.status();
 }
 
-Status Engine::push_slice(const SliceView& slice) {
-  if (failure_ != Status::ok) return failure_;
+Status Engine::check_slice(const SliceView& slice) const {
   const bool known_type = slice.type == SampleType::u8 || slice.type == SampleType::u16 ||
                           slice.type == SampleType::i16 || slice.type == SampleType::f32;
   if (!slice.samples || !known_type ||
       slice.row_stride_bytes < std::size_t{slice.width} * sample_bytes(slice.type))
     return Status::invalid_argument;
   if (slice.width != width_ || slice.height != height_) return Status::slice_size_mismatch;
+  return Status::ok;
+}
+
+Status Engine::push_slice(const SliceView& slice) {
+  if (failure_ != Status::ok) return failure_;
+  if (const Status status = check_slice(slice); status != Status::ok) return status;
   if (std::uint64_t{first_slice_} + counters_.slices >= 0xFFFFFFFFu)
     return Status::invalid_argument;
 
@@ -993,12 +998,7 @@ Status Engine::begin_slab(const SliceView& previous, std::uint32_t first_slice) 
   if (first_slice == 0 || counters_.slices != 0 || first_slice_ != 0 ||
       counters_.vertices != 0)
     return Status::invalid_argument;
-  const bool known_type = previous.type == SampleType::u8 || previous.type == SampleType::u16 ||
-                          previous.type == SampleType::i16 || previous.type == SampleType::f32;
-  if (!previous.samples || !known_type ||
-      previous.row_stride_bytes < std::size_t{previous.width} * sample_bytes(previous.type))
-    return Status::invalid_argument;
-  if (previous.width != width_ || previous.height != height_) return Status::slice_size_mismatch;
+  if (const Status status = check_slice(previous); status != Status::ok) return status;
 
   EngineState& st = *state_;
   const std::uint32_t z = first_slice - 1;

@@ -148,8 +148,7 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
   const std::array<double, 3> spacing = {options.placement.spacing[0], options.placement.spacing[1],
                                          options.placement.spacing[2]};
   // Slabs when asked and the volume has two or more.
-  const std::uint32_t slab_slices = slab_slices_of(volume, 0);
-  const bool slabs = options.threads > 1 && volume.depth > slab_slices;
+  const bool slabs = options.threads > 1 && slab_count(volume, 0) >= 2;
   if (!slabs && !options.normals && !options.triangulate &&
       options.placement.is_axis_aligned() && !options.placement.mirrors()) {
     AlignedArraysSink sink(options.placement, volume.depth, label);

@@ -115,10 +115,9 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
     threads = bytes >= kAutoSlabVolumeBytes ? std::max(1u, std::thread::hardware_concurrency()) : 1;
   }
   if (threads <= 1 || job.output.empty() || job.picture.wanted()) return 1;
-  const std::uint64_t per_slab = slab_slices_of(info, job.slab_slices);
-  const std::uint64_t slabs = (info.depth + per_slab - 1) / per_slab;
+  const std::uint32_t slabs = slab_count(info, job.slab_slices);
   // At most one worker per slab (run_slab_pipeline takes no more).
-  return slabs >= 2 ? static_cast<unsigned>(std::min<std::uint64_t>(threads, slabs)) : 1;
+  return slabs >= 2 ? std::min(threads, slabs) : 1;
 }
 
 MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,

@@ -55,8 +55,7 @@ struct SliceItem {
 
 struct Worker final : SlabRecorder::Handover {
   Worker(const Cancellation& cancellation, std::size_t slice_bytes, std::uint32_t buffer_slices,
-         std::size_t workspace_bytes,
-         const EngineOptions& engine)
+         std::size_t workspace_bytes, const EngineOptions& engine)
       : slices(cancellation),
         free_slices(cancellation),
         full_chunks(cancellation),
@@ -114,6 +113,12 @@ void copy_slice(const SliceView& from, std::vector<unsigned char>& to) {
     std::memcpy(to.data() + y * row_bytes, source + y * from.row_stride_bytes, row_bytes);
 }
 
+// What one thread reading the volume in order says when it runs out of slices at slice z.
+Error ended_early(const std::string& input_label, std::uint32_t z, std::uint32_t depth) {
+  return Error(input_label, "ended after " + std::to_string(z) + " of its " +
+                                std::to_string(depth) + " slices");
+}
+
 // Reads every slice once and gives it to each slab that needs it, in slab order.
 void read_slices(SliceSource& source, const SlabCuts& cuts,
                  std::vector<std::unique_ptr<Worker>>& workers, const std::string& input_label,
@@ -124,9 +129,7 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
     const auto start = Clock::now();
     const bool more = source.next_slice(&view);
     *read_seconds += seconds_since(start);
-    if (!more)
-      throw Error(input_label, "ended after " + std::to_string(z) + " of its " +
-                                   std::to_string(cuts.depth) + " slices");
+    if (!more) throw ended_early(input_label, z, cuts.depth);
     const std::uint32_t own = z / cuts.slab_slices;
     for (std::uint32_t slab = own == 0 ? 0 : own - 1; slab <= own + 1 && slab < cuts.count();
          ++slab) {
@@ -210,9 +213,7 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
         worker.read_seconds += seconds_since(read_start);
         if (!more) {
           // The file changed since it was opened: as one thread reading it would say.
-          failure.fail_reading(z, std::make_exception_ptr(Error(
-                                      input_label, "ended after " + std::to_string(z) + " of its " +
-                                                       std::to_string(cuts.depth) + " slices")));
+          failure.fail_reading(z, std::make_exception_ptr(ended_early(input_label, z, cuts.depth)));
           return;
         }
       } else {
@@ -261,6 +262,13 @@ std::uint32_t slab_slices_of(const VolumeInfo& volume, std::uint32_t requested) 
   return requested == 0 ? default_slab_slices(volume) : std::max<std::uint32_t>(4, requested);
 }
 
+std::uint32_t slab_count(const VolumeInfo& volume, std::uint32_t requested) {
+  SlabCuts cuts;
+  cuts.depth = volume.depth;
+  cuts.slab_slices = slab_slices_of(volume, requested);
+  return cuts.count();
+}
+
 std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
                                   const SlabOptions& options) {
   const std::uint64_t slice = std::uint64_t{volume.width} * volume.height * sample_bytes(volume.type);
@@ -291,15 +299,13 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   cuts.depth = info.depth;
   cuts.slab_slices = slab_slices_of(info, options.slab_slices);
   cuts.extra = options.normals ? 1 : 0;
+  const RangeReadable* ranges = own_range_reader(source);
   // At most one worker per slab. A pipe's slices come in order, once: one worker would get the
   // slices that two slabs with normals share interleaved, so two take turns instead.
   std::uint32_t threads = std::clamp(options.threads, 1u, std::max(1u, cuts.count()));
-  if (threads == 1 && options.normals && !own_range_reader(source) && cuts.count() > 1)
-    threads = 2;
+  if (threads == 1 && options.normals && !ranges && cuts.count() > 1) threads = 2;
   const std::size_t slice_bytes =
       std::size_t{info.width} * info.height * sample_bytes(info.type);
-
-  const RangeReadable* ranges = own_range_reader(source);
 
   std::vector<std::unique_ptr<Worker>> workers;
   SlabRunFailure failure([&workers] {

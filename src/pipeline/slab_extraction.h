@@ -59,6 +59,8 @@ constexpr unsigned kChunksPerWorker = 3;
 std::uint32_t default_slab_slices(const VolumeInfo& volume);
 // The slices per slab a run takes: `requested` (at least 4) or, for 0, the default.
 std::uint32_t slab_slices_of(const VolumeInfo& volume, std::uint32_t requested);
+// The slabs the volume is cut into with slab_slices_of(volume, requested) slices each.
+std::uint32_t slab_count(const VolumeInfo& volume, std::uint32_t requested);
 // Slice buffers per worker: every slice its slab needs. Slices are read once, in order, so the
 // reader can hand the next slab to the next worker only once this one has its whole slab;
 // with fewer, the workers would take turns.

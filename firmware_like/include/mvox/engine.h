@@ -121,6 +121,8 @@ class Engine {
  private:
   friend void detail::use_baseline_loops(Engine& engine);
   Status fail(Status status);
+  // invalid_argument or slice_size_mismatch for a slice this engine cannot take, else ok.
+  Status check_slice(const SliceView& slice) const;
   Status emit_layer(detail::EngineState& state, std::uint32_t z, bool real_slice);
 
   detail::EngineState* state_ = nullptr;

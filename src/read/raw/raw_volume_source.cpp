@@ -18,16 +18,9 @@ const RawFormat& volume_format(const RawFormat& format) {
 }  // namespace
 
 RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format)
-    : file_(path),
-      format_(volume_format(format)),
-      slices_(file_, 0, format_.slice_bytes(), format_.depth, kChunkBytes) {
+    : RawVolumeSource(path, volume_format(format), 0, format.depth) {
   file_.expect_size(std::uint64_t{format_.depth} * format_.slice_bytes(),
                     "a " + raw_format_text(format_) + " volume");
-  info_.width = format_.width;
-  info_.height = format_.height;
-  info_.depth = format_.depth;
-  info_.type = format_.type;
-  end_index_ = format_.depth;
 }
 
 RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format,

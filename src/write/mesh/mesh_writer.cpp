@@ -63,14 +63,18 @@ Status MeshWriter::consume_vertices_with_normals(const Vertex* vertices, const g
   return guarded("vertices", [&] {
     if (options_.normals_given && normals == nullptr && vertex_count > 0)
       throw Error(subject(), "internal error: vertices arrived without their normals");
-    if (vertex_count > kMaxVertexCount - vertex_count_) {
-      throw Error(subject(), "more than " + std::to_string(kMaxVertexCount) +
-                                 " vertices, which 32-bit signed indices cannot address");
-    }
+    check_vertex_room(vertex_count);
     place_vertices(vertices, options_.normals_given ? normals : nullptr, vertex_count);
     write_vertices(vertex_batch_.data(), vertex_count);
     vertex_count_ += vertex_count;
   });
+}
+
+void MeshWriter::check_vertex_room(std::size_t vertex_count) const {
+  if (vertex_count > kMaxVertexCount - vertex_count_) {
+    throw Error(subject(), "more than " + std::to_string(kMaxVertexCount) +
+                               " vertices, which 32-bit signed indices cannot address");
+  }
 }
 
 void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,
@@ -91,10 +95,7 @@ void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,
 
 Status MeshWriter::consume_placed_vertices(const WorldVertex* vertices, std::size_t vertex_count) {
   return guarded("vertices", [&] {
-    if (vertex_count > kMaxVertexCount - vertex_count_) {
-      throw Error(subject(), "more than " + std::to_string(kMaxVertexCount) +
-                                 " vertices, which 32-bit signed indices cannot address");
-    }
+    check_vertex_room(vertex_count);
     write_vertices(vertices, vertex_count);
     vertex_count_ += vertex_count;
   });

@@ -121,6 +121,8 @@ class MeshWriter : public PolygonSink {
  private:
   template <class Body>
   Status guarded(const char* batch, Body&& body);
+  // Throws unless `vertex_count` more vertices keep every index below kMaxVertexCount.
+  void check_vertex_room(std::size_t vertex_count) const;
   // `given`: the batch's normals when the caller computed them (normals_given), else null.
   void place_vertices(const Vertex* vertices, const glm::vec3* given, std::size_t vertex_count);
   // Throws unless every polygon has 3 to kMaxPolygonVertices vertices, each already consumed.
