@@ -16,6 +16,7 @@
 #include "mvox/workspace_buffer.h"
 #include "picture/normal_window.h"
 #include "pipeline/blocking_queue.h"
+#include "pipeline/slab_engine_run.h"
 #include "pipeline/slab_recorder.h"
 #include "pipeline/slab_run_failure.h"
 #include "pipeline/stopwatch.h"
@@ -26,25 +27,19 @@
 namespace mvox {
 namespace {
 
-// Which slices each slab takes: its own [first, end), the slice before it (the previous slab's
-// last, for begin_slab) and, with normals, one more on each side for its window.
+// The volume cut into slabs of `slab_slices` slices (the last may be thinner).
 struct SlabCuts {
   std::uint32_t depth = 0;
   std::uint32_t slab_slices = 1;
-  std::uint32_t extra = 0;  // 1 with normals
+  bool normals = false;
 
   std::uint32_t count() const { return (depth + slab_slices - 1) / slab_slices; }
   std::uint32_t first(std::uint32_t slab) const { return slab * slab_slices; }
   std::uint32_t end(std::uint32_t slab) const {
     return std::min(depth, first(slab) + slab_slices);
   }
-  // The slices slab `slab` reads: [needed_from, needed_to).
-  std::uint32_t needed_from(std::uint32_t slab) const {
-    const std::uint32_t f = first(slab);
-    return f == 0 ? 0 : f - std::min(f, 1 + extra);
-  }
-  std::uint32_t needed_to(std::uint32_t slab) const {
-    return std::min(depth, end(slab) + extra);
+  SlabSpan span(std::uint32_t slab) const {
+    return SlabSpan::of(first(slab), end(slab), depth, normals);
   }
 };
 
@@ -133,7 +128,8 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
     const std::uint32_t own = z / cuts.slab_slices;
     for (std::uint32_t slab = own == 0 ? 0 : own - 1; slab <= own + 1 && slab < cuts.count();
          ++slab) {
-      if (z < cuts.needed_from(slab) || z >= cuts.needed_to(slab)) continue;
+      const SlabSpan span = cuts.span(slab);
+      if (z < span.read_from || z >= span.read_to) continue;
       Worker& worker = *workers[slab % threads];
       const std::optional<std::vector<unsigned char>*> samples = worker.free_slices.pop();
       if (!samples) return;  // cancelled
@@ -147,96 +143,99 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
                                  " its header gives");
 }
 
+// A worker's slab slices from a reader of its own: a reading failure is reported with its
+// slice number, so that the run can report the first bad slice of the volume.
+class OwnReaderSlices final : public SlabSlices {
+ public:
+  OwnReaderSlices(SliceSource& reader, Worker& worker, SlabRunFailure& failure,
+                  const std::string& input_label, std::uint32_t depth)
+      : reader_(reader), worker_(worker), failure_(failure), input_label_(input_label),
+        depth_(depth) {}
+
+  bool next(std::uint32_t z, SliceView* view) override {
+    if (failure_.cancellation().cancelled()) return false;
+    bool more = false;
+    const auto read_start = Clock::now();
+    try {
+      more = reader_.next_slice(view);
+    } catch (...) {
+      failure_.fail_reading(z, std::current_exception());
+      return false;
+    }
+    worker_.read_seconds += seconds_since(read_start);
+    if (!more) {
+      // The file changed since it was opened: as one thread reading it would say.
+      failure_.fail_reading(z, std::make_exception_ptr(ended_early(input_label_, z, depth_)));
+      return false;
+    }
+    return true;
+  }
+
+ private:
+  SliceSource& reader_;
+  Worker& worker_;
+  SlabRunFailure& failure_;
+  const std::string& input_label_;
+  std::uint32_t depth_;
+};
+
+// A worker's slab slices as the reading thread hands them out.
+class HandedOutSlices final : public SlabSlices {
+ public:
+  HandedOutSlices(Worker& worker, const VolumeInfo& info, const std::string& input_label)
+      : worker_(worker), info_(info), input_label_(input_label) {}
+
+  bool next(std::uint32_t z, SliceView* view) override {
+    item_ = worker_.slices.pop();
+    if (!item_) return false;
+    if (item_->z != z) throw Error(input_label_, "internal error: slices out of order");
+    *view = packed_view(info_, *item_->samples);
+    return true;
+  }
+  void release() override {
+    if (item_) worker_.free_slices.push(item_->samples);
+    item_.reset();
+  }
+
+ private:
+  Worker& worker_;
+  const VolumeInfo& info_;
+  const std::string& input_label_;
+  std::optional<SliceItem> item_;
+};
+
 // Runs the engine over every slab this worker takes: slabs w, w + threads, ...
 void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
                    const SlabCuts& cuts, const VolumeInfo& info, double threshold,
                    const EngineOptions& options, const VertexPlacement& placement,
-                   const RangeReadable* ranges,
-                   SlabRunFailure& failure, const std::string& input_label) {
+                   const RangeReadable* ranges, SlabRunFailure& failure,
+                   const std::string& input_label) {
   const Cancellation& cancellation = failure.cancellation();
   const VertexNormals* normals = worker.normals ? &worker.normals->normals() : nullptr;
+  SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
   SlabRecorder recorder(worker, placement, normals, options.polygon_geometry);
-  auto check = [&](Status status) {
-    if (status == Status::ok) return true;
-    if (cancellation.cancelled()) return false;  // the recorder found the run cancelled
-    throw Error(input_label, std::string("extraction failed: ") + status_message(status));
-  };
   for (std::uint32_t slab = index; slab < cuts.count(); slab += threads) {
-    const std::uint32_t first = cuts.first(slab), end = cuts.end(slab);
-    const std::uint32_t from = cuts.needed_from(slab), to = cuts.needed_to(slab);
-    Engine engine;
-    if (!check(engine.init(worker.workspace.data(), worker.workspace.bytes(), info.width,
-                           info.height, threshold, options, &recorder)))
-      return;
-    if (first == 0) {
-      if (!recorder.start(0)) return;
-      recorder.own_vertices_only();  // the first slab has no shared vertices
-    }
-    std::uint64_t last_slice_first_vertex = 0;
-    // The engine's part of slice z: the slice before the slab starts it, the slab's own are
-    // pushed, the window's extra ones are only for normals.
-    auto take = [&](std::uint32_t z, const SliceView& view) {
-      if (first > 0 && z + 1 == first) {
-        return check(engine.begin_slab(view, first)) &&
-               recorder.start(engine.counters().shared_vertices);
-      }
-      if (z < first || z >= end) return true;
-      last_slice_first_vertex = engine.counters().vertices;
-      if (!check(engine.push_slice(view))) return false;
-      if (z == first) recorder.own_vertices_only();
-      return true;
-    };
-    SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
-    if (window) window->restart_at(from);
-    std::unique_ptr<SliceSource> reader;  // the slab's own, when the input allows
+    const SlabSpan span = cuts.span(slab);
+    bool went_on = false;
     if (ranges) {
+      std::unique_ptr<SliceSource> reader;  // the slab's own
       try {
-        reader = ranges->open_range(from, to);
+        reader = ranges->open_range(span.read_from, span.read_to);
       } catch (...) {
-        failure.fail_reading(from, std::current_exception());
+        failure.fail_reading(span.read_from, std::current_exception());
         return;
       }
+      OwnReaderSlices slices(*reader, worker, failure, input_label, cuts.depth);
+      went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
+                             worker.workspace.bytes(), recorder, window, slices, cancellation,
+                             input_label);
+    } else {
+      HandedOutSlices slices(worker, info, input_label);
+      went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
+                             worker.workspace.bytes(), recorder, window, slices, cancellation,
+                             input_label);
     }
-    for (std::uint32_t z = from; z < to; ++z) {
-      std::optional<SliceItem> item;
-      SliceView view;
-      if (reader) {
-        if (cancellation.cancelled()) return;
-        bool more = false;
-        const auto read_start = Clock::now();
-        try {
-          more = reader->next_slice(&view);
-        } catch (...) {
-          failure.fail_reading(z, std::current_exception());
-          return;
-        }
-        worker.read_seconds += seconds_since(read_start);
-        if (!more) {
-          // The file changed since it was opened: as one thread reading it would say.
-          failure.fail_reading(z, std::make_exception_ptr(ended_early(input_label, z, cuts.depth)));
-          return;
-        }
-      } else {
-        item = worker.slices.pop();
-        if (!item) return;
-        if (item->z != z) throw Error(input_label, "internal error: slices out of order");
-        view = packed_view(info, *item->samples);
-      }
-      bool ok = true;
-      if (window) {
-        // As stream_volume() does: the engine one slice behind the window, so that the window
-        // holds z - 2 .. z + 1 while the engine emits slice z's vertices.
-        if (!check(window->push(view))) return;
-        if (z > from) ok = take(z - 1, window->slice(z - 1));
-      } else {
-        ok = take(z, view);
-      }
-      if (item) worker.free_slices.push(item->samples);
-      if (!ok) return;
-    }
-    if (window && !take(to - 1, window->slice(to - 1))) return;
-    if (!check(end == cuts.depth ? engine.finish() : engine.finish_slab())) return;
-    recorder.end({engine.counters(), last_slice_first_vertex});
+    if (!went_on) return;
   }
 }
 
@@ -298,7 +297,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   SlabCuts cuts;
   cuts.depth = info.depth;
   cuts.slab_slices = slab_slices_of(info, options.slab_slices);
-  cuts.extra = options.normals ? 1 : 0;
+  cuts.normals = options.normals;
   const RangeReadable* ranges = own_range_reader(source);
   // At most one worker per slab. A pipe's slices come in order, once: one worker would get the
   // slices that two slabs with normals share interleaved, so two take turns instead.
