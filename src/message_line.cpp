@@ -22,8 +22,15 @@ std::string one_line(std::string_view text) {
   return out;
 }
 
+namespace {
+const char* program_name = "mvox";
+}  // namespace
+
+void set_message_program(const char* name) { program_name = name; }
+const char* message_program() { return program_name; }
+
 void print_message(const char* kind, std::string_view text) {
-  const std::string line = "mvox: " + std::string(kind) + ": " + one_line(text) + "\n";
+  const std::string line = std::string(program_name) + ": " + std::string(kind) + ": " + one_line(text) + "\n";
   std::fputs(line.c_str(), stderr);
 }
 

@@ -15,5 +15,9 @@ std::string one_line(std::string_view text);
 // Prints "mvox: KIND: TEXT" and a newline on standard error, TEXT through one_line(). KIND is
 // "error", "warning" or "note".
 void print_message(const char* kind, std::string_view text);
+// The name that starts those lines: "mvox" unless another executable (mvox-mpi) says so, once,
+// before any thread starts. `name` must outlive every message.
+void set_message_program(const char* name);
+const char* message_program();
 
 }  // namespace mvox

@@ -64,7 +64,7 @@ void check_threshold_range(const std::string& input, SampleType type, double thr
   throw Error(input, problem);
 }
 
-void run_extract(const ExtractArguments& args) {
+void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
   const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
   if (args.normals && format == MeshFormat::stl)
     throw CLI::ValidationError("--normals",
@@ -122,12 +122,16 @@ void run_extract(const ExtractArguments& args) {
   job.threads = args.threads;  // 0: chosen by the volume's size (MeshJob::threads)
   job.read_ahead = args.threads != 1;
   BufferedWriter::allow_background_writes(args.threads != 1);
-  run_mesh_job(*source, job);
+  if (runner) {
+    runner(*source, job);
+  } else {
+    run_mesh_job(*source, job);
+  }
 }
 
 }  // namespace
 
-void add_extract_command(CLI::App& app) {
+void add_extract_command(CLI::App& app, ExtractRunner runner) {
   auto args = std::make_shared<ExtractArguments>();
   CLI::App* command = app.add_subcommand(
       "extract",
@@ -211,7 +215,7 @@ void add_extract_command(CLI::App& app) {
       ->check(CLI::Range(4u, 1u << 30))
       ->group("");
   command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");
-  command->callback([args] { run_extract(*args); });
+  command->callback([args, runner] { run_extract(*args, runner); });
 }
 
 }  // namespace mvox

@@ -40,9 +40,7 @@ const char* surface_rule_name(SurfaceRule rule) {
   return rule == SurfaceRule::paper_table1 ? "paper-table1" : "merge-rules";
 }
 
-namespace {
-
-void print_summary(const RunReport& r) {
+void print_run_summary(const RunReport& r) {
   const EngineCounters& c = r.result.counters;
   const PhaseTimes& t = r.result.times;
   const double voxels = double(r.volume.width) * r.volume.height * double(c.slices);
@@ -84,7 +82,6 @@ void print_summary(const RunReport& r) {
                  grouped(r.render.triangles_culled).c_str());
 }
 
-// What --dry-run prints: the input, the outputs, and the memory plan.
 void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& plan) {
   std::printf("mvox extract --dry-run: %s, %ux%ux%u %s voxels, threshold %g\n", r.input.c_str(),
               r.volume.width, r.volume.height, r.volume.depth, sample_type_name(r.volume.type),
@@ -103,8 +100,6 @@ void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& pla
   std::printf("nothing read but headers, nothing written\n");
   std::fflush(stdout);
 }
-
-}  // namespace
 
 unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
   const VolumeInfo& info = source.info();
@@ -156,7 +151,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   return plan;
 }
 
-RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
+RunReport start_run_report(const SliceSource& source, const MeshJob& job) {
   RunReport report;
   report.start_memory_bytes = current_resident_bytes();
   report.input = job.input_label;
@@ -174,10 +169,12 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   report.method = surface_method_name(job.engine.method);
   report.engine = engine_kind_name(job.engine.kind);
   report.surface = surface_rule_name(job.engine.rule);
+  return report;
+}
 
+void check_job_outputs(const MeshJob& job, std::uint32_t depth) {
   const bool want_mesh = !job.output.empty();
-  const bool want_picture = job.picture.wanted();
-  if (!want_mesh && !want_picture)
+  if (!want_mesh && !job.picture.wanted())
     throw Error(job.input_label, "nothing to write: give -o mesh.ply, --image picture.png or both");
   if (job.normals && !want_mesh) throw Error("--normals", "needs a mesh output (-o)");
   if (job.mesh.triangulate && !want_mesh) throw Error("--triangulate", "needs a mesh output (-o)");
@@ -189,8 +186,16 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (!job.stats_path.empty()) targets.push_back({job.stats_path, "--stats", "the report"});
   std::optional<FramesTarget> frames;
   if (!job.picture.frames_dir.empty())
-    frames = FramesTarget{job.picture.frames_dir, job.picture.every, report.volume.depth};
+    frames = FramesTarget{job.picture.frames_dir, job.picture.every, depth};
   check_output_targets(targets, frames, job.input_files);
+}
+
+RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
+  RunReport report = start_run_report(source, job);
+  const WorldTransform& placement = job.mesh.transform;
+  const bool want_mesh = !job.output.empty();
+  const bool want_picture = job.picture.wanted();
+  check_job_outputs(job, report.volume.depth);
 
   // The memory the run will take, known before anything is allocated: a run that cannot fit,
   // or slices too large to extract at all, are refused now rather than after gigabytes.
@@ -318,7 +323,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (picture && picture->image_file()) sealed.push_back(picture->image_file());
   if (stats_file) sealed.push_back(&*stats_file);
   publish_together(sealed);
-  if (!job.quiet) print_summary(report);
+  if (!job.quiet) print_run_summary(report);
   return report;
 }
 

@@ -54,6 +54,14 @@ struct MeshJob {
 // report appear together at the end. Frames, written during the run, are the exception.
 RunReport run_mesh_job(SliceSource& source, const MeshJob& job);
 
+// The report's description of the run, before it runs: input, outputs, volume with the
+// placement the mesh is made with, threshold, method; memory at the start.
+RunReport start_run_report(const SliceSource& source, const MeshJob& job);
+// Throws mvox::Error when the job has nothing to write, an option that needs a mesh without
+// one, or an output that would land on an input or another output (output_targets.h).
+// `depth`: the volume's, for the frames' names.
+void check_job_outputs(const MeshJob& job, std::uint32_t depth);
+
 // What the job will allocate for `source` (memory_plan.h): the engine's workspace, the reader's
 // buffers, reading ahead, the slice window for normals, the picture and the mesh writer.
 // `engine` as the job will run it (polygon_geometry set when a sink needs it).
@@ -71,6 +79,11 @@ constexpr std::uint64_t kAutoSlabVolumeBytes = std::uint64_t{64} << 20;
 // most one per slab, when the volume has at least two slabs and the job writes a mesh and no
 // picture (the picture is drawn by one engine), else 1.
 unsigned slab_threads(const SliceSource& source, const MeshJob& job);
+
+// The summary a run prints on standard error unless quiet: counts, times, memory.
+void print_run_summary(const RunReport& report);
+// What --dry-run prints on standard output: the input, the outputs, and the memory plan.
+void print_dry_run(const RunReport& report, const MeshJob& job, const MemoryPlan& plan);
 
 // "123,456": large counts are easier to read with separators.
 std::string grouped(std::uint64_t value);

@@ -135,8 +135,41 @@ Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, s
   }
 }
 
+void SlabJoin::relocate(Polygon* polygons, std::uint32_t count, bool own_only) const {
+  // Local index i < shared: the previous slab's last slice's vertex shared_base + i; any
+  // other: this slab's own vertex slab_base + i - shared. In 32 bits: the writer has refused
+  // the vertices before an index could pass 2^31 (kMaxVertexCount), so none wraps.
+  const auto own = static_cast<std::uint32_t>(slab_base_ - shared_);
+  if (own_only) {
+    for (std::uint32_t i = 0; i < count; ++i)
+      for (int k = 0; k < polygons[i].vertex_count; ++k) polygons[i].vertices[k] += own;
+    return;
+  }
+  const auto shared = static_cast<std::uint32_t>(shared_);
+  const auto shared_base = static_cast<std::uint32_t>(shared_base_);
+  for (std::uint32_t i = 0; i < count; ++i)
+    for (int k = 0; k < polygons[i].vertex_count; ++k) {
+      const std::uint32_t local = polygons[i].vertices[k];
+      polygons[i].vertices[k] = local < shared ? shared_base + local : own + local;
+    }
+}
+
+void SlabJoin::end(const SlabSummary& summary) {
+  const EngineCounters& c = summary.counters;
+  const std::uint64_t emitted = c.vertices - c.shared_vertices;
+  shared_base_ = slab_base_ + summary.last_slice_first_vertex - c.shared_vertices;
+  slab_base_ += emitted;
+  counters_.slices += c.slices;
+  counters_.inner_voxels += c.inner_voxels;
+  counters_.vertices += emitted;
+  counters_.polygons += c.polygons;
+  for (int size = 0; size <= kMaxPolygonVertices; ++size)
+    counters_.polygons_by_size[size] += c.polygons_by_size[size];
+  shared_ = 0;
+}
+
 Status SlabReplay::replay(SlabChunk& chunk) {
-  if (chunk.first) shared_ = chunk.shared_vertices;
+  if (chunk.first) join_.begin(chunk.shared_vertices);
   std::size_t placed_at = 0, vertex_at = 0, polygon_at = 0, geometry_at = 0;
   for (const SlabChunk::Call& call : chunk.calls) {
     Status status = Status::ok;
@@ -153,22 +186,7 @@ Status SlabReplay::replay(SlabChunk& chunk) {
         break;
       case SlabChunk::Kind::polygons: {
         Polygon* polygons = chunk.polygons.data() + polygon_at;
-        // Local index i < shared: the previous slab's last slice's vertex shared_base + i;
-        // any other: this slab's own vertex slab_base + i - shared. In 32 bits: the writer has
-        // refused the vertices before an index could pass 2^31 (kMaxVertexCount), so none wraps.
-        const auto own = static_cast<std::uint32_t>(slab_base_ - shared_);
-        if (call.own_vertices_only) {
-          for (std::uint32_t i = 0; i < call.count; ++i)
-            for (int k = 0; k < polygons[i].vertex_count; ++k) polygons[i].vertices[k] += own;
-        } else {
-          const auto shared = static_cast<std::uint32_t>(shared_);
-          const auto shared_base = static_cast<std::uint32_t>(shared_base_);
-          for (std::uint32_t i = 0; i < call.count; ++i)
-            for (int k = 0; k < polygons[i].vertex_count; ++k) {
-              const std::uint32_t local = polygons[i].vertices[k];
-              polygons[i].vertices[k] = local < shared ? shared_base + local : own + local;
-            }
-        }
+        join_.relocate(polygons, call.count, call.own_vertices_only);
         status = mesh_.consume_polygons(polygons, call.count);
         polygon_at += call.count;
         break;
@@ -180,19 +198,7 @@ Status SlabReplay::replay(SlabChunk& chunk) {
     }
     if (status != Status::ok) return status;
   }
-  if (chunk.last) {
-    const EngineCounters& c = chunk.summary.counters;
-    const std::uint64_t emitted = c.vertices - c.shared_vertices;
-    shared_base_ = slab_base_ + chunk.summary.last_slice_first_vertex - c.shared_vertices;
-    slab_base_ += emitted;
-    counters_.slices += c.slices;
-    counters_.inner_voxels += c.inner_voxels;
-    counters_.vertices += emitted;
-    counters_.polygons += c.polygons;
-    for (int size = 0; size <= kMaxPolygonVertices; ++size)
-      counters_.polygons_by_size[size] += c.polygons_by_size[size];
-    shared_ = 0;
-  }
+  if (chunk.last) join_.end(chunk.summary);
   return Status::ok;
 }
 

@@ -118,25 +118,50 @@ class SlabRecorder final : public PolygonSink {
   SlabChunk* chunk_ = nullptr;
 };
 
+// How slabs join into one volume: where each slab's local vertex indices go in the whole
+// volume's numbering (Engine::begin_slab), and the counters summed, slab after slab in order.
+class SlabJoin {
+ public:
+  // The next slab starts; its engine numbered `shared_vertices` vertices it does not emit.
+  void begin(std::uint64_t shared_vertices) { shared_ = shared_vertices; }
+  // Moves the current slab's local indices to the whole volume's, in place. `own_only`: no
+  // index refers to a shared vertex (SlabChunk::Call::own_vertices_only).
+  void relocate(Polygon* polygons, std::uint32_t count, bool own_only) const;
+  // The current slab has ended; the next one is current.
+  void end(const SlabSummary& summary);
+
+  // Vertices of the slabs ended so far: the whole-volume index of the next slab's first own
+  // vertex.
+  std::uint64_t vertices_before() const { return slab_base_; }
+  // The counters of the slabs ended so far, as one engine over them would count.
+  const EngineCounters& counters() const { return counters_; }
+
+ private:
+  std::uint64_t slab_base_ = 0;    // vertices of the slabs before the current one
+  std::uint64_t shared_base_ = 0;  // where the current slab's shared vertices start
+  std::uint64_t shared_ = 0;       // the current slab's shared vertex count
+  EngineCounters counters_;
+};
+
 // Replays slabs, in order, into a mesh writer, moving each slab's local vertex indices to the
 // whole volume's numbering, and sums their counters.
 class SlabReplay {
  public:
-  explicit SlabReplay(MeshWriter& mesh) : mesh_(mesh) {}
+  // `after`: the slabs before the first one replayed here, when their output is written by
+  // other processes (mvox-mpi); the writer then numbers its vertices from
+  // after.vertices_before() on (MeshWriterOptions::part).
+  explicit SlabReplay(MeshWriter& mesh, const SlabJoin& after = {}) : mesh_(mesh), join_(after) {}
 
   // Replays one chunk of the current slab; after its last chunk the next slab is current.
   // Moves the chunk's vertex indices in place. Returns the writer's status (sink_refused: the
   // writer holds the error).
   Status replay(SlabChunk& chunk);
-
-  const EngineCounters& counters() const { return counters_; }
+  const SlabJoin& join() const { return join_; }
+  const EngineCounters& counters() const { return join_.counters(); }
 
  private:
   MeshWriter& mesh_;
-  std::uint64_t slab_base_ = 0;        // vertices of the slabs before the current one
-  std::uint64_t shared_base_ = 0;      // where the current slab's shared vertices start
-  std::uint64_t shared_ = 0;           // the current slab's shared vertex count
-  EngineCounters counters_;
+  SlabJoin join_;
 };
 
 }  // namespace mvox

@@ -55,6 +55,8 @@ const char* signal_name(int signal_number) {
   }
 }
 
+std::atomic<bool> interrupts_quiet{false};
+
 // The interrupt thread: see termination.h for why a thread and not a handler.
 [[noreturn]] void wait_for_interrupt(sigset_t signals) {
   int signal_number = 0;
@@ -68,11 +70,13 @@ const char* signal_name(int signal_number) {
   const std::string& subject = r.outputs.empty() ? r.subject : r.outputs.front().target;
   // Over a progress line on a terminal, start from a clean line.
   std::string line = isatty(STDERR_FILENO) == 1 ? "\r\033[K" : "";
-  line +=
-      "mvox: error: " + one_line(subject) + ": interrupted by " + signal_name(signal_number) + "\n";
+  line += std::string(message_program()) + ": error: " + one_line(subject) + ": interrupted by " +
+          signal_name(signal_number) + "\n";
   // write(2), not stdio: another thread may hold stderr's lock for as long as it likes.
-  const ssize_t ignored = ::write(STDERR_FILENO, line.data(), line.size());
-  (void)ignored;
+  if (!interrupts_quiet.load()) {
+    const ssize_t ignored = ::write(STDERR_FILENO, line.data(), line.size());
+    (void)ignored;
+  }
   ::_exit(128 + signal_number);
 }
 
@@ -234,6 +238,8 @@ int create_nameless_temporary(char* name_template) {
   if (fd >= 0) ::unlink(name_template);
   return fd;
 }
+
+void set_interrupts_quiet() { interrupts_quiet = true; }
 
 void set_interrupt_subject(const std::string& subject) {
   Registry& r = registry();

@@ -81,6 +81,11 @@ void discard_output(int id);
 // one step an interrupt cannot split: a nameless scratch file. Returns the descriptor or -1.
 int create_nameless_temporary(char* name_template);
 
+// From here on an interrupt still deletes the temporaries and exits, without a line: for a
+// process whose failure has been reported already, by another (the ranks of mvox-mpi, which
+// mpirun may stop once one of them has failed).
+void set_interrupts_quiet();
+
 // What an interrupt names when no output is in progress, e.g. the input being opened.
 void set_interrupt_subject(const std::string& subject);
 // The subject last set ("mvox" before any): what a failure without a subject of its own, such

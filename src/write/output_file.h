@@ -91,6 +91,10 @@ class OutputFile {
 
   std::uint64_t bytes_written() const { return writer_.bytes_written(); }
 
+  // The temporary file the bytes go to until publishing; empty for direct targets. Other
+  // processes may write into it too: the ranks of mvox-mpi write their parts of a mesh there.
+  const std::string& temporary_path() const { return temp_path_; }
+
   // The target as given ("-" for standard output).
   const std::string& path() const { return path_; }
   // The name used in messages: the path, or "standard output".

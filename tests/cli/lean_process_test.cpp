@@ -26,6 +26,7 @@ using test::ScratchDirectory;
 struct Loaded {
   bool opencv = false;
   bool gdcm = false;
+  bool mpi = false;  // only mvox-mpi links MPI
   int exit_code = -1;
   std::string output;
 };
@@ -41,6 +42,7 @@ Loaded loaded_by(const std::string& arguments, const ScratchDirectory& dir) {
                   result.output.find("libmvox_image_codecs.so [0]") != std::string::npos;
   loaded.gdcm = result.output.find("file=libgdcm") != std::string::npos ||
                 result.output.find("libmvox_dicom_codecs.so [0]") != std::string::npos;
+  loaded.mpi = result.output.find("file=libmpi") != std::string::npos;
   return loaded;
 }
 
@@ -51,6 +53,7 @@ void expect_lean(const std::string& arguments, const ScratchDirectory& dir) {
       loaded.output.size() > 2000 ? loaded.output.size() - 2000 : 0);
   EXPECT_FALSE(loaded.opencv) << "OpenCV was loaded";
   EXPECT_FALSE(loaded.gdcm) << "GDCM was loaded";
+  EXPECT_FALSE(loaded.mpi) << "MPI was loaded";
 }
 
 void write_tiff(const std::string& path, int pages) {

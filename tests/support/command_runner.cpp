@@ -14,8 +14,12 @@ namespace mvox::test {
 
 CommandResult run_mvox(const std::string& arguments, const std::filesystem::path& directory,
                        const std::string& prefix) {
-  const std::string command =
-      "cd '" + directory.string() + "' && " + prefix + " '" MVOX_BINARY "' " + arguments + " 2>&1";
+  return run_command(prefix + " '" MVOX_BINARY "' " + arguments, directory);
+}
+
+CommandResult run_command(const std::string& command_line,
+                          const std::filesystem::path& directory) {
+  const std::string command = "cd '" + directory.string() + "' && " + command_line + " 2>&1";
   CommandResult result;
   std::FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;

@@ -16,6 +16,9 @@ struct CommandResult {
 CommandResult run_mvox(const std::string& arguments, const std::filesystem::path& directory,
                        const std::string& prefix = "");
 
+// Runs `command_line` through the shell from `directory`, as run_mvox() does.
+CommandResult run_command(const std::string& command_line, const std::filesystem::path& directory);
+
 // One line of output, starting "mvox: error: ", mentioning `subject`, with exit code
 // `exit_code` (1: the job failed, 2: a usage error, which adds a line pointing at --help).
 void expect_one_line_error(const CommandResult& result, const std::string& subject,

@@ -56,6 +56,28 @@ bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& opti
   return format == MeshFormat::stl || options.triangulate;
 }
 
+namespace {
+
+PlyWriterOptions ply_options(MeshFormat format, const MeshWriterOptions& options) {
+  PlyWriterOptions ply;
+  static_cast<MeshWriterOptions&>(ply) = options;
+  ply.format = format == MeshFormat::ply_ascii ? PlyFormat::ascii : PlyFormat::binary_little_endian;
+  return ply;
+}
+
+}  // namespace
+
+std::string mesh_file_head(MeshFormat format, const MeshWriterOptions& options,
+                           std::uint64_t vertex_count, std::uint64_t face_count) {
+  switch (format) {
+    case MeshFormat::stl: return StlWriter::head(options, face_count);
+    case MeshFormat::obj: return ObjWriter::head(options);
+    case MeshFormat::ply:
+    case MeshFormat::ply_ascii: break;
+  }
+  return PlyWriter::head(ply_options(format, options), vertex_count, face_count);
+}
+
 std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat format,
                                              const MeshWriterOptions& options) {
   switch (format) {
@@ -64,10 +86,7 @@ std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat
     case MeshFormat::ply:
     case MeshFormat::ply_ascii: break;
   }
-  PlyWriterOptions ply;
-  static_cast<MeshWriterOptions&>(ply) = options;
-  ply.format = format == MeshFormat::ply_ascii ? PlyFormat::ascii : PlyFormat::binary_little_endian;
-  return std::make_unique<PlyWriter>(path, ply);
+  return std::make_unique<PlyWriter>(path, ply_options(format, options));
 }
 
 }  // namespace mvox

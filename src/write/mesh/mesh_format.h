@@ -34,6 +34,13 @@ std::uint64_t mesh_writer_working_bytes(MeshFormat format);
 // (EngineOptions::polygon_geometry): STL and --triangulate.
 bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options);
 
+// The head of a whole mesh file of `format` whose parts (MeshWriterOptions::part) hold
+// `vertex_count` vertices and `face_count` faces: what one writer writes before the records of
+// a regular file (PLY's header padded to its reserved size, STL's header and count, OBJ's
+// comments). Throws mvox::Error when the format cannot count that many (STL).
+std::string mesh_file_head(MeshFormat format, const MeshWriterOptions& options,
+                           std::uint64_t vertex_count, std::uint64_t face_count);
+
 // A writer of `format` to `path` ("-" for standard output). Throws mvox::Error as the writers do.
 std::unique_ptr<MeshWriter> open_mesh_writer(const std::string& path, MeshFormat format,
                                              const MeshWriterOptions& options);

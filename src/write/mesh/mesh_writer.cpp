@@ -33,7 +33,8 @@ MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, Positions 
       mirrors_(options_.transform.mirrors()),
       placement_(options_.transform, options_.writes_normals()),
       faces_(kFacesPerRun),
-      face_positions_(positions_needed_ ? kFacesPerRun : 0) {}
+      face_positions_(positions_needed_ ? kFacesPerRun : 0),
+      vertex_count_(options_.part ? options_.part->first_vertex : 0) {}
 
 template <class Body>
 Status MeshWriter::guarded(const char* batch, Body&& body) {

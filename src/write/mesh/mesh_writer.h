@@ -35,6 +35,14 @@ struct MeshWriterOptions {
   bool triangulate = false;
   // Make the file durable before it appears (OutputFile's `sync`, --sync).
   bool sync = false;
+  // Set when the file is one part of a mesh that several processes write together (mvox-mpi):
+  // it gets no head (no PLY header, no STL header and count, no OBJ comments), only the part's
+  // records, and its vertices are numbered on from `first_vertex`, the vertices of the parts
+  // before it. The whole file's head is mesh_file_head() (mesh_format.h).
+  struct Part {
+    std::uint64_t first_vertex = 0;
+  };
+  std::optional<Part> part;
 };
 
 // The world positions of one face's vertices, in the face's order, for writers that asked for
@@ -89,10 +97,15 @@ class MeshWriter : public PolygonSink {
   void publish();
 
   bool needs_polygon_geometry() const { return needs_geometry_; }
-  // Vertices received from the engine (STL repeats them in every triangle instead).
+  // Vertices received from the engine (STL repeats them in every triangle instead), after a
+  // part's first_vertex.
   std::uint64_t vertices_written() const { return vertex_count_; }
   // Faces written: triangles when triangulating.
   std::uint64_t faces_written() const { return face_count_; }
+  // For a part (MeshWriterOptions::part), once complete: how many of its bytes, at the end, go
+  // among the whole file's faces (PLY's face records); the bytes before them go among its
+  // vertices. Formats of one section (STL, OBJ) have none.
+  virtual std::uint64_t part_face_bytes() const { return 0; }
   // The error that made the writer refuse, or nullptr.
   const Error* error() const { return error_ ? &*error_ : nullptr; }
   // The output's name in messages: the path, or "standard output".

@@ -18,10 +18,16 @@ char* put_floats(char* out, char* end, const char* keyword, const float* values)
 
 }  // namespace
 
+std::string ObjWriter::head(const MeshWriterOptions& options) {
+  std::string comments;
+  for (const std::string& comment : options.comments) comments += "# " + comment + "\n";
+  return comments;
+}
+
 ObjWriter::ObjWriter(const std::string& path, const MeshWriterOptions& options)
     : MeshWriter(options, Faces::as_polygons, Positions::not_needed), out_(path, options.sync) {
-  std::string comments;
-  for (const std::string& comment : this->options().comments) comments += "# " + comment + "\n";
+  if (this->options().part) return;  // a part has no comments: they head the whole file
+  const std::string comments = head(this->options());
   out_.write(comments.data(), comments.size());
 }
 

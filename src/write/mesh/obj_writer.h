@@ -25,6 +25,9 @@ class ObjWriter final : public MeshWriter {
   const std::string& subject() const override { return out_.subject(); }
   OutputFile* output_file() override { return &out_; }
 
+  // The comment lines: the head of a mesh written in parts (mesh_file_head).
+  static std::string head(const MeshWriterOptions& options);
+
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
   void write_faces(const Polygon* faces, const FacePositions* positions,

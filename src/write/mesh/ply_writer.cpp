@@ -31,11 +31,29 @@ std::string header_lines(PlyFormat format, const MeshWriterOptions& options,
   return text;
 }
 
+// The header as a file written to a regular target has it: padded with spaces in a comment
+// line so that it fills the area reserved for the widest counts exactly.
+std::string padded_header(PlyFormat format, const MeshWriterOptions& options,
+                          std::uint64_t vertex_count, std::uint64_t face_count) {
+  const std::size_t reserved = header_lines(format, options, kWidestCount, kWidestCount).size() +
+                               kShortestPaddingBytes + kEndHeaderBytes;
+  std::string header = header_lines(format, options, vertex_count, face_count);
+  header += "comment";
+  header.append(reserved - header.size() - kEndHeaderBytes - 1, ' ');
+  header += '\n';
+  header += kEndHeader;
+  return header;
+}
+
 }  // namespace
 
+std::string PlyWriter::head(const PlyWriterOptions& options, std::uint64_t vertex_count,
+                            std::uint64_t face_count) {
+  return padded_header(options.format, options, vertex_count, face_count);
+}
+
 std::size_t PlyWriter::reserved_header_bytes(const PlyWriterOptions& options) {
-  return header_lines(options.format, options, kWidestCount, kWidestCount).size() +
-         kShortestPaddingBytes + kEndHeaderBytes;
+  return padded_header(options.format, options, 0, 0).size();
 }
 
 PlyWriter::PlyWriter(const std::string& path, PlyWriterOptions options)
@@ -43,10 +61,11 @@ PlyWriter::PlyWriter(const std::string& path, PlyWriterOptions options)
       format_(options.format),
       out_(path, options.sync),
       faces_(out_.scratch_directory(), out_.subject()) {
-  if (out_.can_overwrite()) {
+  if (options.part) {
+    // A part has no header: its vertices, then its faces.
+  } else if (out_.can_overwrite()) {
     // Placeholder until finish(): the same size as the real header, so nothing moves.
-    header_bytes_ = reserved_header_bytes(options);
-    const std::string placeholder(header_bytes_, ' ');
+    const std::string placeholder(reserved_header_bytes(options), ' ');
     out_.write(placeholder.data(), placeholder.size());
   } else {
     vertex_spool_.emplace(out_.scratch_directory(), out_.subject());
@@ -138,19 +157,19 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
 }
 
 void PlyWriter::complete_file() {
-  std::string header = header_lines(format_, options(), vertices_written(), faces_written());
-  if (vertex_spool_) {
-    header += kEndHeader;
+  if (options().part) {
+    part_face_bytes_ = faces_.bytes_written();
+    faces_.copy_to(out_);
+  } else if (vertex_spool_) {
+    const std::string header =
+        header_lines(format_, options(), vertices_written(), faces_written()) + kEndHeader;
     out_.write(header.data(), header.size());
     vertex_spool_->copy_to(out_);
     faces_.copy_to(out_);
   } else {
     faces_.copy_to(out_);
-    // Pad with spaces in a comment line so the header fills its reserved area exactly.
-    header += "comment";
-    header.append(header_bytes_ - header.size() - kEndHeaderBytes - 1, ' ');
-    header += '\n';
-    header += kEndHeader;
+    const std::string header =
+        padded_header(format_, options(), vertices_written(), faces_written());
     out_.overwrite(0, header.data(), header.size());
   }
   out_.seal();

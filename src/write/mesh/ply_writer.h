@@ -37,6 +37,12 @@ class PlyWriter final : public MeshWriter {
   const std::string& subject() const override { return out_.subject(); }
   OutputFile* output_file() override { return &out_; }
 
+  // The header of a file written to a regular target, with these counts: the head of a mesh
+  // written in parts (mesh_file_head).
+  static std::string head(const PlyWriterOptions& options, std::uint64_t vertex_count,
+                          std::uint64_t face_count);
+  std::uint64_t part_face_bytes() const override { return part_face_bytes_; }
+
   // Bytes of the header area for these options (binary and ASCII alike), which is also the
   // offset of the first vertex in a file written to a regular target.
   static std::size_t reserved_header_bytes(const PlyWriterOptions& options);
@@ -53,7 +59,7 @@ class PlyWriter final : public MeshWriter {
   OutputFile out_;
   std::optional<ScratchFile> vertex_spool_;  // only when out_ cannot be overwritten
   ScratchFile faces_;
-  std::size_t header_bytes_ = 0;
+  std::uint64_t part_face_bytes_ = 0;
 };
 
 }  // namespace mvox

@@ -34,6 +34,16 @@ void face_normal(const float (*p)[3], float normal[3]) {
 
 }  // namespace
 
+std::string StlWriter::head(const MeshWriterOptions& options, std::uint64_t triangle_count) {
+  if (triangle_count > std::numeric_limits<std::uint32_t>::max())
+    throw Error("STL", "more than 4,294,967,295 triangles, which STL cannot count");
+  std::string text = header(options);
+  unsigned char count[4];
+  store_le32(count, static_cast<std::uint32_t>(triangle_count));
+  text.append(reinterpret_cast<const char*>(count), sizeof count);
+  return text;
+}
+
 std::string StlWriter::header(const MeshWriterOptions& options) {
   std::string text = options.comments.empty() ? "mvox" : options.comments.front();
   // A binary STL whose header starts with "solid" is taken for ASCII STL by many readers.
@@ -45,7 +55,9 @@ std::string StlWriter::header(const MeshWriterOptions& options) {
 StlWriter::StlWriter(const std::string& path, const MeshWriterOptions& options)
     : MeshWriter(without_vertex_normals(options), Faces::as_triangles, Positions::needed),
       out_(path, options.sync) {
-  if (out_.can_overwrite()) {
+  if (options.part) {
+    // A part has no header: only its triangles.
+  } else if (out_.can_overwrite()) {
     // The count is a placeholder until complete_file().
     std::string start = header(options);
     start.append(4, '\0');
@@ -97,14 +109,15 @@ void StlWriter::write_triangles_to(Sink& sink, const Polygon* faces, const FaceP
 }
 
 void StlWriter::complete_file() {
-  unsigned char count[4];
-  store_le32(count, static_cast<std::uint32_t>(faces_written()));
-  if (spool_) {
-    const std::string start = header(options());
+  if (options().part) {
+    // The head, with the whole mesh's count, is mesh_file_head()'s.
+  } else if (spool_) {
+    const std::string start = head(options(), faces_written());
     out_.write(start.data(), start.size());
-    out_.write(count, sizeof count);
     spool_->copy_to(out_);
   } else {
+    unsigned char count[4];
+    store_le32(count, static_cast<std::uint32_t>(faces_written()));
     out_.overwrite(kHeaderBytes, count, sizeof count);
   }
   out_.seal();

@@ -37,6 +37,9 @@ class StlWriter final : public MeshWriter {
 
   // The 80 header bytes for these options.
   static std::string header(const MeshWriterOptions& options);
+  // The header and the triangle count: the head of a mesh written in parts (mesh_file_head).
+  // Throws mvox::Error for more triangles than 32 bits count.
+  static std::string head(const MeshWriterOptions& options, std::uint64_t triangle_count);
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;

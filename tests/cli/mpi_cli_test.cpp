@@ -1,0 +1,173 @@
+// `mpirun -np R mvox-mpi extract`: R processes write one mesh file together, and it is the file
+// `mvox extract` writes alone, byte for byte, in every format and option, for R = 1 to 4 (more
+// ranks than cores: --oversubscribe), with --stats counting the same. A bad slice fails the run
+// as one process fails it, naming the same slice, and leaves no file behind.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "support/command_runner.h"
+#include "support/file_io.h"
+
+namespace mvox {
+namespace {
+
+using test::run_command;
+using test::run_mvox;
+
+// mpirun as a user runs it, quiet (its own banners off), as root too (the CI runs as root).
+test::CommandResult run_ranks(int ranks, const std::string& arguments,
+                              const std::filesystem::path& directory) {
+  return run_command("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 '" MVOX_MPIEXEC
+                     "' --quiet --oversubscribe -np " +
+                         std::to_string(ranks) + " '" MVOX_MPI_BINARY "' " + arguments,
+                     directory);
+}
+
+void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed) {
+  std::vector<unsigned char> bytes(voxels);
+  std::uint64_t state = seed;
+  for (unsigned char& byte : bytes) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    byte = static_cast<unsigned char>(state >> 56);
+  }
+  test::write_bytes(path, bytes);
+}
+
+// The counters of a --stats report: from "inner_voxels" to the times.
+std::string counters_of(const std::string& report) {
+  const std::size_t from = report.find("\"inner_voxels\"");
+  const std::size_t to = report.find("\"time_seconds\"");
+  EXPECT_LT(from, to) << report;
+  return from < to && to != std::string::npos ? report.substr(from, to - from) : "";
+}
+
+// Writes the mesh with `mvox extract --threads 1` and with 1 to 4 ranks, and compares.
+void expect_same_for_any_ranks(const test::ScratchDirectory& dir, const std::string& input,
+                               const std::string& extension, const std::string& options) {
+  SCOPED_TRACE(input + " " + extension + " " + options);
+  const std::string common = "extract " + input + " " + options + " -q --stats ";
+  const test::CommandResult alone =
+      run_mvox(common + "alone.json --threads 1 -o alone." + extension, dir.path());
+  ASSERT_EQ(alone.exit_code, 0) << alone.output;
+  const std::string reference = test::read_bytes(dir.path() / ("alone." + extension));
+  const std::string reference_counters = counters_of(test::read_bytes(dir.path() / "alone.json"));
+  EXPECT_GT(reference.size(), 5000u);
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    SCOPED_TRACE("ranks " + std::to_string(ranks));
+    const std::string mesh = "ranks." + extension;
+    const test::CommandResult result =
+        run_ranks(ranks, common + "ranks.json -o " + mesh, dir.path());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_EQ(result.output, "");
+    EXPECT_TRUE(test::read_bytes(dir.path() / mesh) == reference) << "the mesh differs";
+    EXPECT_EQ(counters_of(test::read_bytes(dir.path() / "ranks.json")), reference_counters);
+  }
+}
+
+TEST(MpiRanks, EveryFormatAndOptionIsTheSameBytesAsOneProcess) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 41 * 23 * 37, 7);
+  const std::string input = "noise.raw --raw 41x23x37:u8 -t 128";
+  struct Case {
+    const char* extension;
+    const char* options;
+  };
+  const Case cases[] = {
+      {"ply", ""},
+      {"ply", "--ascii"},
+      {"obj", ""},
+      {"stl", ""},
+      {"ply", "--triangulate"},
+      {"ply", "--normals"},
+      {"obj", "--normals --spacing 0.5,1,2 --origin -3,4,5"},
+      {"ply", "--method cubes --normals --ascii"},
+      {"ply", "--surface paper-table1 --engine literal"},
+  };
+  for (const Case& c : cases) expect_same_for_any_ranks(dir, input, c.extension, c.options);
+  const std::vector<std::string> expected = {"alone.json", "alone.ply", "alone.obj",
+                                             "alone.stl", "noise.raw", "ranks.json",
+                                             "ranks.obj", "ranks.ply", "ranks.stl"};
+  std::vector<std::string> sorted = expected;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(dir.entries(), sorted) << "a part or a temporary was left behind";
+}
+
+TEST(MpiRanks, ImageStacksAndRawSlicesAreTheSameBytesToo) {
+  test::ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom blobs -o stack --size 40x36x30 -q", dir.path()).exit_code, 0);
+  expect_same_for_any_ranks(dir, "stack", "ply", "-t 100 --normals");
+  // Raw slices, one file per slice.
+  for (int z = 0; z < 9; ++z)
+    write_noise(dir / ("slice" + std::to_string(z) + ".raw"), 30 * 20, 100 + z);
+  expect_same_for_any_ranks(dir, "'slice*.raw' --raw 30x20:u8", "obj", "-t 128");
+}
+
+TEST(MpiRanks, MoreRanksThanSlicesLeavesTheExtraRanksIdle) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "thin.raw", 40 * 40 * 2, 3);
+  const test::CommandResult alone =
+      run_mvox("extract thin.raw --raw 40x40x2:u8 -t 128 -q -o alone.ply", dir.path());
+  ASSERT_EQ(alone.exit_code, 0) << alone.output;
+  const test::CommandResult ranks =
+      run_ranks(4, "extract thin.raw --raw 40x40x2:u8 -t 128 -q -o ranks.ply", dir.path());
+  ASSERT_EQ(ranks.exit_code, 0) << ranks.output;
+  EXPECT_TRUE(test::read_bytes(dir.path() / "ranks.ply") ==
+              test::read_bytes(dir.path() / "alone.ply"));
+}
+
+TEST(MpiRanks, ABadSliceFailsAsOneProcessFailsAndLeavesNothing) {
+  test::ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom blobs -o stack --size 32x32x40 -q", dir.path()).exit_code, 0);
+  // Slice 5 cut short (rank 0 of 4 reads it) and slice 30 not a PNG at all (rank 3): the run
+  // must name slice 5, as one process reading in order does.
+  const std::string slice5 = test::read_bytes(dir.path() / "stack/blobs_0005.png");
+  test::write_bytes(dir / "stack/blobs_0005.png",
+                    std::vector<unsigned char>(slice5.begin(), slice5.begin() + 100));
+  test::write_bytes(dir / "stack/blobs_0030.png", std::vector<unsigned char>(64, 'x'));
+  const test::CommandResult alone = run_mvox("extract stack -t 100 -o mesh.ply", dir.path());
+  ASSERT_EQ(alone.exit_code, 1) << alone.output;
+  const std::string line = alone.output.substr(std::string("mvox").size());
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    const test::CommandResult result = run_ranks(ranks, "extract stack -t 100 -o mesh.ply", dir.path());
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    EXPECT_EQ(result.output, "mvox-mpi" + line) << "ranks " << ranks;
+  }
+  // And slice 30 alone: the highest rank reports it.
+  test::write_bytes(dir / "stack/blobs_0005.png",
+                    std::vector<unsigned char>(slice5.begin(), slice5.end()));
+  const test::CommandResult late = run_ranks(4, "extract stack -t 100 -o mesh.ply", dir.path());
+  EXPECT_EQ(late.exit_code, 1);
+  EXPECT_NE(late.output.find("blobs_0030.png"), std::string::npos) << late.output;
+  EXPECT_EQ(late.output.find('\n'), late.output.size() - 1) << "more than one line: " << late.output;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"stack"}) << "a part or a temporary was left";
+}
+
+TEST(MpiRanks, WhatRanksCannotShareIsRefusedInOneLine) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 20 * 20 * 8, 5);
+  const std::string input = "extract noise.raw --raw 20x20x8:u8 -t 128 ";
+  struct Refusal {
+    std::string arguments;
+    std::string names;
+  };
+  const Refusal refusals[] = {
+      {input + "-o -", "standard output"},
+      {input + "-o m.ply --image p.png", "--image"},
+      {input + "-o m.ply --threads 2", "--threads"},
+      {"extract /dev/stdin --raw 20x20x8:u8 -t 128 -o m.ply < noise.raw", "pipe"},
+  };
+  for (const Refusal& refusal : refusals) {
+    const test::CommandResult result = run_ranks(2, refusal.arguments, dir.path());
+    EXPECT_NE(result.exit_code, 0) << refusal.arguments;
+    EXPECT_EQ(result.output.rfind("mvox-mpi: error: ", 0), 0u) << result.output;
+    EXPECT_NE(result.output.find(refusal.names), std::string::npos) << result.output;
+  }
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"noise.raw"});
+}
+
+}  // namespace
+}  // namespace mvox
