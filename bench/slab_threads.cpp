@@ -144,7 +144,7 @@ int run(int argc, char** argv) {
       } else {
         SlabOptions slabs;
         slabs.threads = threads;
-        result = run_slab_pipeline(source, threshold, engine, writer, slabs, "volume");
+        result = run_slab_pipeline(source, threshold, engine, &writer, slabs, "volume");
       }
       seconds[threads].push_back(std::chrono::duration<double>(Clock::now() - start).count());
       if (threads == 0) polygons = result.counters.polygons;

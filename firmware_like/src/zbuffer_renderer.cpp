@@ -119,6 +119,37 @@ void ZBufferRenderer::clear() {
   counters_ = RenderCounters();
 }
 
+void composite_pixels(float* depth, std::uint8_t* shade, std::uint32_t* tag,
+                      const float* other_depth, const std::uint8_t* other_shade,
+                      const std::uint32_t* other_tag, std::size_t pixels) {
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const float d = other_depth[i];
+    // Infinite depths are never taken: a pixel drawn nowhere keeps the background.
+    const bool takes = d < depth[i] || (d == depth[i] && other_tag[i] < tag[i] &&
+                                        d != std::numeric_limits<float>::infinity());
+    if (!takes) continue;
+    depth[i] = d;
+    shade[i] = other_shade[i];
+    tag[i] = other_tag[i];
+  }
+}
+
+Status ZBufferRenderer::composite(const ZBufferRenderer& other) {
+  if (!depth_ || !other.depth_ || !tags_ || !other.tags_ || other.width_ != width_ ||
+      other.height_ != height_)
+    return Status::invalid_argument;
+  composite_pixels(depth_, shade_, tags_, other.depth_, other.shade_, other.tags_,
+                   std::size_t{width_} * height_);
+  counters_.polygons += other.counters_.polygons;
+  counters_.polygons_clipped += other.counters_.polygons_clipped;
+  counters_.triangles_culled += other.counters_.triangles_culled;
+  counters_.triangles_hidden += other.counters_.triangles_hidden;
+  counters_.triangles_drawn += other.counters_.triangles_drawn;
+  counters_.fragments_covered += other.counters_.fragments_covered;
+  counters_.fragments_written += other.counters_.fragments_written;
+  return Status::ok;
+}
+
 void ZBufferRenderer::draw_polygon(const glm::vec3* positions, const glm::vec3* normals,
                                    int vertex_count) {
   if (project_polygon(positions, vertex_count)) draw_projected(normals);
@@ -198,6 +229,7 @@ bool ZBufferRenderer::test_projected(int vertex_count) {
 void ZBufferRenderer::shade_pixel(std::uint32_t pixel, float depth, const glm::vec3& normal) {
   ++counters_.fragments_written;
   depth_[pixel] = depth;
+  if (tags_) tags_[pixel] = tag_;
   const float length_squared = glm::dot(normal, normal);
   // min(): rounding can put the quotient a hair above 1, past the table's end.
   const float cosine = length_squared > 0.0f

@@ -98,10 +98,10 @@ SlabSummary run_rank_slab(const SlabSpan& span, const RangeReadable& ranges,
   std::optional<NormalWindow> window;
   if (normals) window.emplace(info, job.mesh.transform.spacing, job.input_label);
   OneChunk chunk(engine, replay);
-  SlabRecorder recorder(chunk, placement, window ? &window->normals() : nullptr,
+  SlabRecorder recorder(chunk, &placement, window ? &window->normals() : nullptr,
                         engine.polygon_geometry);
   const bool done = extract_slab(span, info, job.threshold, engine, workspace.data(),
-                                 workspace.bytes(), recorder, window ? &window->window() : nullptr,
+                                 workspace.bytes(), recorder, nullptr, window ? &window->window() : nullptr,
                                  slices, chunk.cancellation(), job.input_label);
   *read_seconds += slices.read_seconds;
   if (!done) throw Error(job.input_label, "internal error: a rank's slab stopped early");
@@ -260,7 +260,7 @@ void run_distributed_mesh_job(SliceSource& source, const MeshJob& job, MpiWorld&
     // Never published: the part is read back from its temporary and deleted with the writer.
     part = open_mesh_writer(job.output + ".part" + std::to_string(world.rank()), job.format,
                             options);
-    SlabReplay replay(*part, before);
+    SlabReplay replay(part.get(), before);
     try {
       run_rank_slab(span, *ranges, info, job, engine, part->placement(), &replay, job.normals,
                     &read_seconds);

@@ -62,8 +62,10 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
       renderer_.init(memory_.data(), memory_.size() * sizeof(float), camera, options.lighting);
   if (status != Status::ok)
     throw Error("renderer", std::string("cannot start: ") + status_message(status));
-  sink_.emplace(renderer_, frame.length(spacing), frame.point(origin),
-                options.smooth ? normals : nullptr);
+  camera_ = camera;
+  frame_spacing_ = frame.length(spacing);
+  frame_origin_ = frame.point(origin);
+  sink_.emplace(renderer_, frame_spacing_, frame_origin_, options.smooth ? normals : nullptr);
 
   if (!options.frames_dir.empty()) prepare_frames_dir(options.frames_dir);
   if (!options.image_path.empty()) image_file_.emplace(options.image_path, options.sync);
@@ -77,6 +79,39 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
 }
 
 SurfacePicture::~SurfacePicture() = default;
+
+PictureLayer::PictureLayer(const Camera& camera, const Lighting& lighting,
+                           const glm::vec3& spacing, const glm::vec3& origin,
+                           const VertexNormals* normals)
+    : memory_((zbuffer_workspace_bytes(camera.width, camera.height) + sizeof(float) - 1) /
+              sizeof(float)),
+      tags_(std::size_t{camera.width} * camera.height) {
+  const Status status =
+      renderer_.init(memory_.data(), memory_.size() * sizeof(float), camera, lighting);
+  if (status != Status::ok)
+    throw Error("renderer", std::string("cannot start: ") + status_message(status));
+  renderer_.tag_pixels(tags_.data());
+  sink_.emplace(renderer_, spacing, origin, normals);
+}
+
+std::uint64_t PictureLayer::bytes(std::uint32_t width, std::uint32_t height) {
+  return zbuffer_workspace_bytes(width, height) +
+         std::uint64_t{width} * height * sizeof(std::uint32_t);
+}
+
+std::unique_ptr<PictureLayer> SurfacePicture::new_layer(const VertexNormals* normals) const {
+  return std::make_unique<PictureLayer>(camera_, options_.lighting, frame_spacing_,
+                                        frame_origin_, options_.smooth ? normals : nullptr);
+}
+
+void SurfacePicture::composite(const PictureLayer& layer) {
+  if (tags_.empty()) {
+    tags_.resize(std::size_t{renderer_.width()} * renderer_.height());
+    renderer_.tag_pixels(tags_.data());
+  }
+  if (renderer_.composite(layer.renderer()) != Status::ok)
+    throw Error("renderer", "internal error: a layer of another size");
+}
 
 void SurfacePicture::write_frame(std::uint32_t slices_done) {
   if (options_.frames_dir.empty()) return;

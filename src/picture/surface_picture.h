@@ -38,6 +38,30 @@ struct PictureOptions {
 // zero-padded to at least 4 digits and to as many as `depth` has, so that names sort in order.
 std::string frame_file_name(std::uint32_t slices_done, std::uint32_t depth);
 
+// A renderer of its own for one worker of a slab-parallel run (SurfacePicture::new_layer): the
+// picture's camera, lighting and placement, drawing the slabs the worker takes, each tagged
+// with its slab number, to be composited into the picture at the end.
+class PictureLayer {
+ public:
+  PictureLayer(const Camera& camera, const Lighting& lighting, const glm::vec3& spacing,
+               const glm::vec3& origin, const VertexNormals* normals);
+  PictureLayer(const PictureLayer&) = delete;
+  PictureLayer& operator=(const PictureLayer&) = delete;
+
+  PolygonSink& sink() { return *sink_; }
+  // The polygons from here on are slab `slab`'s.
+  void start_slab(std::uint32_t slab) { renderer_.set_tag(slab); }
+  const ZBufferRenderer& renderer() const { return renderer_; }
+  // The memory a layer of width x height pixels takes: the renderer's workspace and the tags.
+  static std::uint64_t bytes(std::uint32_t width, std::uint32_t height);
+
+ private:
+  std::vector<float> memory_;
+  std::vector<std::uint32_t> tags_;
+  ZBufferRenderer renderer_;
+  std::optional<RenderSink> sink_;
+};
+
 class SurfacePicture {
  public:
   // Sets up the renderer for `volume` placed with `spacing` and `origin` (as the mesh is
@@ -68,6 +92,14 @@ class SurfacePicture {
   void publish();
 
   const ZBufferRenderer& renderer() const { return renderer_; }
+
+  // Slab-parallel pictures (sort-last compositing): each worker draws its slabs into a layer of
+  // its own, with its own slice window's `normals` (may be null), and the layers composited into
+  // this picture give the picture one engine draws, bit for bit (ZBufferRenderer::composite).
+  // Frames and the live window follow slices as one engine takes them, so they need one engine.
+  std::unique_ptr<PictureLayer> new_layer(const VertexNormals* normals) const;
+  void composite(const PictureLayer& layer);
+  bool smooth() const { return options_.smooth; }
   // The picture's file, once complete() has sealed it (null without --image).
   OutputFile* image_file() { return image_file_ ? &*image_file_ : nullptr; }
 
@@ -78,6 +110,10 @@ class SurfacePicture {
   std::uint32_t depth_ = 0;    // slices the source announced: sets the frame names' width
   std::vector<float> memory_;  // the renderer's workspace: float-aligned
   ZBufferRenderer renderer_;
+  std::vector<std::uint32_t> tags_;  // once layers are composited into it
+  Camera camera_;
+  glm::vec3 frame_spacing_{1.0f};  // the voxel size and origin in the picture's frame
+  glm::vec3 frame_origin_{0.0f};
   std::optional<RenderSink> sink_;
   std::optional<OutputFile> image_file_;
   std::unique_ptr<LiveWindow> live_window_;

@@ -178,7 +178,7 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
     slab_options.threads = options.threads;
     slab_options.normals = options.normals;
     slab_options.spacing = spacing;
-    result = run_slab_pipeline(source, options.threshold, engine, writer, slab_options, label);
+    result = run_slab_pipeline(source, options.threshold, engine, &writer, slab_options, label);
   } else {
     PipelineSinks sinks;
     sinks.mesh = &writer;

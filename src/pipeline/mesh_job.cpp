@@ -109,7 +109,8 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
         std::uint64_t{info.width} * info.height * info.depth * sample_bytes(info.type);
     threads = bytes >= kAutoSlabVolumeBytes ? std::max(1u, std::thread::hardware_concurrency()) : 1;
   }
-  if (threads <= 1 || job.output.empty() || job.picture.wanted()) return 1;
+  // Frames and the live window show the picture slice by slice, as one engine draws it.
+  if (threads <= 1 || !job.picture.frames_dir.empty() || job.picture.show) return 1;
   const std::uint32_t slabs = slab_count(info, job.slab_slices);
   // At most one worker per slab (run_slab_pipeline takes no more).
   return slabs >= 2 ? std::min(threads, slabs) : 1;
@@ -127,10 +128,14 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     slabs.threads = threads;
     slabs.slab_slices = job.slab_slices;
     slabs.normals = job.normals;
+    slabs.smooth_picture = picture && job.picture.smooth;
     if (own_range_reader(source)) slabs.reader_bytes = source.working_bytes();
     plan.add(std::to_string(threads) +
                  " slab workers (workspace, slices, window, recorded output)",
              slab_pipeline_bytes(info, engine, slabs));
+    if (picture)
+      plan.add(std::to_string(threads) + " picture layers (z-buffer, slab of each pixel)",
+               threads * PictureLayer::bytes(job.picture.width, job.picture.height));
     plan.add("reader (slice and decoder buffers)", source.working_bytes());
   } else {
     plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
@@ -267,7 +272,9 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
       slabs.slab_slices = job.slab_slices;
       slabs.normals = job.normals;
       slabs.spacing = placement.spacing;
-      report.result = run_slab_pipeline(source, job.threshold, engine, *writer, slabs,
+      slabs.picture = picture ? &*picture : nullptr;
+      slabs.smooth_picture = picture && job.picture.smooth;
+      report.result = run_slab_pipeline(source, job.threshold, engine, writer.get(), slabs,
                                         job.input_label, after_slice);
     } else if (!job.read_ahead) {
       report.result =

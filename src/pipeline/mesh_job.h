@@ -28,8 +28,9 @@ struct MeshJob {
   // picture's own `sync` too.
   bool sync = false;
   bool quiet = false;        // no progress line, no summary
-  // Extracting threads (--threads): above 1, a mesh without a picture is extracted in slabs,
-  // in parallel (slab_extraction.h), with the same bytes as one thread. 1: one engine.
+  // Extracting threads (--threads): above 1, the volume is extracted in slabs, in parallel
+  // (slab_extraction.h), mesh and picture the same bytes as one thread (not with frames or
+  // --show). 1: one engine.
   // 0: one per core for volumes of kAutoSlabVolumeBytes or more, one engine below.
   unsigned threads = 1;
   // With one engine, a reading thread fills the next slices while the engine works
@@ -76,8 +77,8 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
 constexpr std::uint64_t kAutoSlabVolumeBytes = std::uint64_t{64} << 20;
 
 // The extracting threads the job will run `source` with: job.threads (for 0, as said above), at
-// most one per slab, when the volume has at least two slabs and the job writes a mesh and no
-// picture (the picture is drawn by one engine), else 1.
+// most one per slab, when the volume has at least two slabs and the job writes no frames and
+// shows no window (they follow the picture slice by slice, as one engine draws it), else 1.
 unsigned slab_threads(const SliceSource& source, const MeshJob& job);
 
 // The summary a run prints on standard error unless quiet: counts, times, memory.

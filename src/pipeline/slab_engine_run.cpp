@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "error.h"
+#include "mvox/fan_out_sink.h"
 
 namespace mvox {
 
@@ -18,16 +19,20 @@ SlabSpan SlabSpan::of(std::uint32_t first, std::uint32_t end, std::uint32_t dept
 
 bool extract_slab(const SlabSpan& span, const VolumeInfo& info, double threshold,
                   const EngineOptions& options, void* workspace, std::size_t workspace_bytes,
-                  SlabRecorder& recorder, SliceWindow* window, SlabSlices& slices,
-                  const Cancellation& cancellation, const std::string& input_label) {
+                  SlabRecorder& recorder, PolygonSink* drawing, SliceWindow* window,
+                  SlabSlices& slices, const Cancellation& cancellation,
+                  const std::string& input_label) {
   auto check = [&](Status status) {
     if (status == Status::ok) return true;
     if (cancellation.cancelled()) return false;  // the recorder found the run cancelled
     throw Error(input_label, std::string("extraction failed: ") + status_message(status));
   };
+  FanOutSink both;
+  both.add(&recorder);
+  both.add(drawing);
   Engine engine;
   if (!check(engine.init(workspace, workspace_bytes, info.width, info.height, threshold, options,
-                         &recorder)))
+                         drawing ? static_cast<PolygonSink*>(&both) : &recorder)))
     return false;
   if (span.first == 0) {
     if (!recorder.start(0)) return false;

@@ -45,12 +45,14 @@ class SlabSlices {
 // the volume's first slab), push_slice() on its own slices, and finish() for the volume's last
 // slab or finish_slab() for any other. With `window` (restarted here), the engine runs one slice
 // behind it, so that normals can be computed from the slices around each vertex batch. The
-// recorder gets start(), own_vertices_only() and end() at their places. Returns false when the
-// run stopped: `slices` said so, or the recorder found `cancellation` set. Throws mvox::Error
-// naming `input_label` for an engine failure.
+// recorder gets start(), own_vertices_only() and end() at their places; `drawing` (may be null),
+// a picture layer's sink, gets the engine's output too. Returns false when the run stopped:
+// `slices` said so, or the recorder found `cancellation` set. Throws mvox::Error naming
+// `input_label` for an engine failure.
 bool extract_slab(const SlabSpan& span, const VolumeInfo& info, double threshold,
                   const EngineOptions& options, void* workspace, std::size_t workspace_bytes,
-                  SlabRecorder& recorder, SliceWindow* window, SlabSlices& slices,
-                  const Cancellation& cancellation, const std::string& input_label);
+                  SlabRecorder& recorder, PolygonSink* drawing, SliceWindow* window,
+                  SlabSlices& slices, const Cancellation& cancellation,
+                  const std::string& input_label);
 
 }  // namespace mvox

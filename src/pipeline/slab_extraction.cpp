@@ -15,6 +15,7 @@
 #include "mvox/slice_window.h"
 #include "mvox/workspace_buffer.h"
 #include "picture/normal_window.h"
+#include "picture/surface_picture.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/slab_engine_run.h"
 #include "pipeline/slab_recorder.h"
@@ -83,6 +84,7 @@ struct Worker final : SlabRecorder::Handover {
   std::vector<SlabChunk> chunk_storage;
   WorkspaceBuffer workspace;
   std::optional<NormalWindow> normals;
+  std::unique_ptr<PictureLayer> layer;  // with a picture: this worker's slabs drawn
   std::thread thread;
   double read_seconds = 0;  // inside its own slab readers
 };
@@ -207,15 +209,18 @@ class HandedOutSlices final : public SlabSlices {
 // Runs the engine over every slab this worker takes: slabs w, w + threads, ...
 void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
                    const SlabCuts& cuts, const VolumeInfo& info, double threshold,
-                   const EngineOptions& options, const VertexPlacement& placement,
-                   const RangeReadable* ranges, SlabRunFailure& failure,
+                   const EngineOptions& options, const VertexPlacement* placement,
+                   bool mesh_normals, const RangeReadable* ranges, SlabRunFailure& failure,
                    const std::string& input_label) {
   const Cancellation& cancellation = failure.cancellation();
-  const VertexNormals* normals = worker.normals ? &worker.normals->normals() : nullptr;
+  const VertexNormals* normals =
+      worker.normals && mesh_normals ? &worker.normals->normals() : nullptr;
   SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
-  SlabRecorder recorder(worker, placement, normals, options.polygon_geometry);
+  SlabRecorder recorder(worker, placement, normals, options.polygon_geometry && placement);
+  PolygonSink* drawing = worker.layer ? &worker.layer->sink() : nullptr;
   for (std::uint32_t slab = index; slab < cuts.count(); slab += threads) {
     const SlabSpan span = cuts.span(slab);
+    if (worker.layer) worker.layer->start_slab(slab);
     bool went_on = false;
     if (ranges) {
       std::unique_ptr<SliceSource> reader;  // the slab's own
@@ -227,13 +232,13 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
       }
       OwnReaderSlices slices(*reader, worker, failure, input_label, cuts.depth);
       went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
-                             worker.workspace.bytes(), recorder, window, slices, cancellation,
-                             input_label);
+                             worker.workspace.bytes(), recorder, drawing, window, slices,
+                             cancellation, input_label);
     } else {
       HandedOutSlices slices(worker, info, input_label);
       went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
-                             worker.workspace.bytes(), recorder, window, slices, cancellation,
-                             input_label);
+                             worker.workspace.bytes(), recorder, drawing, window, slices,
+                             cancellation, input_label);
     }
     if (!went_on) return;
   }
@@ -276,16 +281,16 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
       (options.reader_bytes > 0
            ? options.reader_bytes
            : std::uint64_t{slab_buffer_slices(slab_slices_of(volume, options.slab_slices),
-                                              options.normals)} *
+                                              options.needs_window())} *
                  slice) +
-      (options.normals ? kSliceWindowDepth * slice : 0) +
+      (options.needs_window() ? kSliceWindowDepth * slice : 0) +
       kChunksPerWorker * SlabChunk::reserved_bytes(engine) +
       (options.normals ? std::uint64_t{engine.vertices_per_batch} * sizeof(glm::vec3) : 0);
   return per_worker * options.threads;
 }
 
 PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
-                                 const EngineOptions& engine, MeshWriter& mesh,
+                                 const EngineOptions& engine, MeshWriter* mesh,
                                  const SlabOptions& options, const std::string& input_label,
                                  const ProgressCallback& progress) {
   const VolumeInfo& info = source.info();
@@ -297,12 +302,13 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   SlabCuts cuts;
   cuts.depth = info.depth;
   cuts.slab_slices = slab_slices_of(info, options.slab_slices);
-  cuts.normals = options.normals;
+  const bool window = options.needs_window();
+  cuts.normals = window;
   const RangeReadable* ranges = own_range_reader(source);
   // At most one worker per slab. A pipe's slices come in order, once: one worker would get the
   // slices that two slabs with normals share interleaved, so two take turns instead.
   std::uint32_t threads = std::clamp(options.threads, 1u, std::max(1u, cuts.count()));
-  if (threads == 1 && options.normals && !ranges && cuts.count() > 1) threads = 2;
+  if (threads == 1 && window && !ranges && cuts.count() > 1) threads = 2;
   const std::size_t slice_bytes =
       std::size_t{info.width} * info.height * sample_bytes(info.type);
 
@@ -312,11 +318,14 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   });
   for (std::uint32_t w = 0; w < threads; ++w) {
     // Workers that read their own slices need no slice buffers from the fan-out.
-    const std::uint32_t buffers =
-        ranges ? 0 : slab_buffer_slices(cuts.slab_slices, options.normals);
+    const std::uint32_t buffers = ranges ? 0 : slab_buffer_slices(cuts.slab_slices, window);
     workers.push_back(std::make_unique<Worker>(failure.cancellation(), slice_bytes, buffers,
                                                result.workspace_bytes, engine));
-    if (options.normals) workers.back()->normals.emplace(info, options.spacing, input_label);
+    Worker& worker = *workers.back();
+    if (window) worker.normals.emplace(info, options.spacing, input_label);
+    if (options.picture)
+      worker.layer = options.picture->new_layer(worker.normals ? &worker.normals->normals()
+                                                                : nullptr);
   }
 
   const auto start = Clock::now();
@@ -338,8 +347,9 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     for (std::uint32_t w = 0; w < threads; ++w)
       workers[w]->thread = std::thread([&, w] {
         try {
-          extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine, mesh.placement(),
-                        ranges, failure, input_label);
+          extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine,
+                        mesh ? &mesh->placement() : nullptr, options.normals, ranges, failure,
+                        input_label);
         } catch (...) {
           failure.fail(std::current_exception());
         }
@@ -392,6 +402,13 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   join_all();
   failure.throw_if_failed(ranges);
   for (const auto& worker : workers) read_seconds += worker->read_seconds;
+  if (options.picture) {
+    // Sort-last: the workers' layers into the picture, each pixel to the nearest, ties to the
+    // lowest slab, as one engine draws it.
+    const auto render_start = Clock::now();
+    for (const auto& worker : workers) options.picture->composite(*worker->layer);
+    result.times.render_s = seconds_since(render_start);
+  }
 
   result.counters = replay.counters();
   result.times.total_s = seconds_since(start);

@@ -30,6 +30,7 @@
 namespace mvox {
 
 class MeshWriter;
+class SurfacePicture;
 
 struct SlabOptions {
   unsigned threads = 2;            // extracting workers, >= 1
@@ -38,6 +39,13 @@ struct SlabOptions {
   // size the mesh is written with.
   bool normals = false;
   std::array<double, 3> spacing = {1, 1, 1};
+  // A picture (borrowed; may be null), drawn in parallel: each worker draws its slabs into a
+  // layer of its own (SurfacePicture::new_layer), and the layers are composited into it at
+  // the end, giving the picture one engine draws. Without frames or a live window.
+  SurfacePicture* picture = nullptr;
+  bool smooth_picture = false;  // the picture is shaded with gradient normals
+  // Each worker keeps a slice window: for the mesh's normals, or the picture's smooth shading.
+  bool needs_window() const { return normals || smooth_picture; }
   // For slab_pipeline_bytes(): the working bytes of each worker's own slab reader, when the
   // input is read that way (own_range_reader); 0 when one thread reads and fans slices out.
   std::uint64_t reader_bytes = 0;
@@ -67,18 +75,21 @@ std::uint32_t slab_count(const VolumeInfo& volume, std::uint32_t requested);
 std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals);
 
 // The memory the slab pipeline adds for `threads` workers: their workspaces, windows, slice
-// buffers and chunks (SlabChunk::reserved_bytes each).
+// buffers and chunks (SlabChunk::reserved_bytes each); picture layers not included
+// (PictureLayer::bytes each).
 std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
                                   const SlabOptions& options);
 
-// Extracts every slice of `source` into `mesh` as run_pipeline() does with one engine, with the
-// same result (counters summed over the slabs), with at most one worker per slab. Phase times
+// Extracts every slice of `source` into `mesh` (may be null when options.picture is set) and
+// options.picture as run_pipeline() does with one engine, with the same result (extraction
+// counters summed over the slabs; the picture's counters are the layers', summed), with at
+// most one worker per slab. Phase times
 // overlap here: read_s is the time inside the sources (the reading thread's, or the workers'
 // summed), write_s the caller's time inside the writer, extract_s the rest of the wall time. Throws mvox::Error naming `input_label` for an engine error, a source
 // that ends before its depth, or whatever the source throws; the writer's own error is left in
 // the writer (status sink_refused), as run_pipeline() leaves it.
 PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
-                                 const EngineOptions& engine, MeshWriter& mesh,
+                                 const EngineOptions& engine, MeshWriter* mesh,
                                  const SlabOptions& options, const std::string& input_label,
                                  const ProgressCallback& progress = {});
 

@@ -48,7 +48,7 @@ std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine) {
   return bytes;
 }
 
-SlabRecorder::SlabRecorder(Handover& handover, const VertexPlacement& placement,
+SlabRecorder::SlabRecorder(Handover& handover, const VertexPlacement* placement,
                            const VertexNormals* normals, bool geometry_follows)
     : handover_(handover),
       placement_(placement),
@@ -81,6 +81,7 @@ bool SlabRecorder::after_call() {
 // The engine is built without exceptions: a failed allocation here must not unwind through it,
 // so every call catches and refuses (the worker then reports the engine's sink_refused).
 Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count) {
+  if (!placement_) return Status::ok;
   try {
     const glm::vec3* normals = nullptr;
     if (normals_) {
@@ -90,7 +91,7 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
     }
     const std::size_t first = chunk_->placed.size();
     chunk_->placed.resize(first + count);
-    const std::size_t outside = placement_.place(vertices, normals, count, &chunk_->placed[first]);
+    const std::size_t outside = placement_->place(vertices, normals, count, &chunk_->placed[first]);
     if (outside == count) {
       chunk_->calls.push_back(
           {SlabChunk::Kind::placed_vertices, own_only_, static_cast<std::uint32_t>(count)});
@@ -110,6 +111,7 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
 }
 
 Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count) {
+  if (!placement_) return Status::ok;
   try {
     chunk_->calls.push_back(
         {SlabChunk::Kind::polygons, own_only_, static_cast<std::uint32_t>(count)});
@@ -125,6 +127,7 @@ Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count
 }
 
 Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) {
+  if (!placement_) return Status::ok;
   try {
     chunk_->calls.push_back(
         {SlabChunk::Kind::geometry, own_only_, static_cast<std::uint32_t>(count)});
@@ -170,16 +173,18 @@ void SlabJoin::end(const SlabSummary& summary) {
 
 Status SlabReplay::replay(SlabChunk& chunk) {
   if (chunk.first) join_.begin(chunk.shared_vertices);
+  if (!mesh_ && !chunk.calls.empty())
+    return Status::invalid_argument;  // recorded output with nowhere to go: a caller's mistake
   std::size_t placed_at = 0, vertex_at = 0, polygon_at = 0, geometry_at = 0;
   for (const SlabChunk::Call& call : chunk.calls) {
     Status status = Status::ok;
     switch (call.kind) {
       case SlabChunk::Kind::placed_vertices:
-        status = mesh_.consume_placed_vertices(chunk.placed.data() + placed_at, call.count);
+        status = mesh_->consume_placed_vertices(chunk.placed.data() + placed_at, call.count);
         placed_at += call.count;
         break;
       case SlabChunk::Kind::vertices:
-        status = mesh_.consume_vertices_with_normals(
+        status = mesh_->consume_vertices_with_normals(
             chunk.vertices.data() + vertex_at,
             chunk.normals.empty() ? nullptr : chunk.normals.data() + vertex_at, call.count);
         vertex_at += call.count;
@@ -187,12 +192,12 @@ Status SlabReplay::replay(SlabChunk& chunk) {
       case SlabChunk::Kind::polygons: {
         Polygon* polygons = chunk.polygons.data() + polygon_at;
         join_.relocate(polygons, call.count, call.own_vertices_only);
-        status = mesh_.consume_polygons(polygons, call.count);
+        status = mesh_->consume_polygons(polygons, call.count);
         polygon_at += call.count;
         break;
       }
       case SlabChunk::Kind::geometry:
-        status = mesh_.consume_polygon_geometry(chunk.geometry.data() + geometry_at, call.count);
+        status = mesh_->consume_polygon_geometry(chunk.geometry.data() + geometry_at, call.count);
         geometry_at += call.count;
         break;
     }

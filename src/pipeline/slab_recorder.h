@@ -85,8 +85,10 @@ class SlabRecorder final : public PolygonSink {
   };
 
   // `geometry_follows`: the engine sends a geometry batch after each polygon batch
-  // (EngineOptions::polygon_geometry), and the pair is kept in one chunk.
-  SlabRecorder(Handover& handover, const VertexPlacement& placement,
+  // (EngineOptions::polygon_geometry), and the pair is kept in one chunk. With `placement`
+  // null, nothing the engine emits is kept, only how each slab starts and ends (a run that
+  // draws a picture and writes no mesh).
+  SlabRecorder(Handover& handover, const VertexPlacement* placement,
                const VertexNormals* normals, bool geometry_follows);
 
   // Starts recording a slab, whose engine numbered `shared_vertices` vertices it does not emit,
@@ -109,7 +111,7 @@ class SlabRecorder final : public PolygonSink {
   bool after_call();
 
   Handover& handover_;
-  const VertexPlacement& placement_;
+  const VertexPlacement* placement_;
   const VertexNormals* normals_;
   // One vertex batch's normals before they are placed: at most EngineOptions::vertices_per_batch.
   std::vector<glm::vec3> batch_normals_;
@@ -150,7 +152,9 @@ class SlabReplay {
   // `after`: the slabs before the first one replayed here, when their output is written by
   // other processes (mvox-mpi); the writer then numbers its vertices from
   // after.vertices_before() on (MeshWriterOptions::part).
-  explicit SlabReplay(MeshWriter& mesh, const SlabJoin& after = {}) : mesh_(mesh), join_(after) {}
+  // `mesh` null: the slabs recorded nothing (SlabRecorder without placement); only their
+  // counters are summed.
+  explicit SlabReplay(MeshWriter* mesh, const SlabJoin& after = {}) : mesh_(mesh), join_(after) {}
 
   // Replays one chunk of the current slab; after its last chunk the next slab is current.
   // Moves the chunk's vertex indices in place. Returns the writer's status (sink_refused: the
@@ -160,7 +164,7 @@ class SlabReplay {
   const EngineCounters& counters() const { return join_.counters(); }
 
  private:
-  MeshWriter& mesh_;
+  MeshWriter* mesh_;
   SlabJoin join_;
 };
 

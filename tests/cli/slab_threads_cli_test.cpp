@@ -86,6 +86,59 @@ TEST(SlabThreads, EveryFormatAndOptionIsTheSameBytesForAnyNumberOfThreads) {
   }
 }
 
+// Each worker draws its slabs into a layer of its own and the layers are composited (sort-last):
+// the picture is the one engine's, bit for bit, seen from every side (front to back, where the
+// earlier slabs hide the later ones, and back to front), smooth and flat, alone or with a mesh.
+TEST(SlabThreads, ThePictureIsTheSameBytesForAnyNumberOfThreads) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 41 * 23 * 37, 5);
+  const std::string input = "noise.raw --raw 41x23x37:u8 -t 128 -q --slab-slices 4";
+  const char* cases[] = {
+      "",
+      "--view 0 -60",
+      "--view 200 -30 --flat",
+      "--view 0 89 --image-size 97x61",
+      "--method cubes --view 30 20",
+      "-o mesh.ply --normals --view 120 10",
+  };
+  for (const char* options : cases) {
+    SCOPED_TRACE(options);
+    std::string reference, reference_counters;
+    for (const int threads : {1, 2, 3, 8}) {
+      const test::CommandResult result =
+          run_mvox("extract " + input + " " + options + " --image p.png --stats s.json" +
+                       " --threads " + std::to_string(threads),
+                   dir.path());
+      ASSERT_EQ(result.exit_code, 0) << result.output;
+      const std::string picture = test::read_bytes(dir.path() / "p.png");
+      const std::string report = test::read_bytes(dir.path() / "s.json");
+      if (threads == 1) {
+        reference = picture;
+        reference_counters = counters_of(report);
+        continue;
+      }
+      EXPECT_NE(report.find(std::to_string(std::min(threads, 10)) + " picture layers"),
+                std::string::npos)
+          << "not drawn in parallel: " << report;
+      EXPECT_TRUE(picture == reference) << threads << " threads drew another picture";
+      EXPECT_EQ(counters_of(report), reference_counters);
+    }
+  }
+}
+
+TEST(SlabThreads, FramesFollowOneEngine) {
+  // Frames show the picture slice by slice, as one engine draws it: no slab workers then.
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 41 * 23 * 37, 5);
+  const test::CommandResult plan =
+      run_mvox("extract noise.raw --raw 41x23x37:u8 -t 128 --image p.png --frames f --threads 4 "
+               "--slab-slices 4 --dry-run",
+               dir.path());
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_EQ(plan.output.find("slab workers"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("engine workspace"), std::string::npos) << plan.output;
+}
+
 // The threads a run starts, as strace sees them: clone calls that make a thread.
 int threads_started(const std::string& arguments, const test::ScratchDirectory& dir) {
   const test::CommandResult result =

@@ -85,6 +85,21 @@ class ZBufferRenderer {
   bool project_polygon(const glm::vec3* positions, int vertex_count);
   void draw_projected(const glm::vec3* normals);
 
+  // Sort-last compositing, for a picture drawn in parts (slabs of slices) by several renderers
+  // with the same camera and lighting. Each part tags the pixels it writes: tag_pixels() gives
+  // the renderer `tags` (borrowed, width * height entries, written only where a pixel is
+  // drawn; null: no tags), set_tag() the current part's tag, its place in the drawing order of
+  // one renderer drawing every part.
+  void tag_pixels(std::uint32_t* tags) { tags_ = tags; }
+  void set_tag(std::uint32_t tag) { tag_ = tag; }
+  // Takes `other`'s pixel wherever it is nearer, or exactly as near and drawn by an earlier part
+  // (a lower tag), since one renderer keeps the first of equal depths: both renderers' parts
+  // composited give the picture one renderer draws from all of them in tag order, bit for bit,
+  // whatever order the renderers are composited in. Both must tag; sizes must match (else
+  // invalid_argument, nothing changed). Counters add up, but those that depend on what was
+  // drawn before (hidden, drawn, fragments written) are not one renderer's.
+  Status composite(const ZBufferRenderer& other);
+
   // The picture: width() * height() bytes, row by row from the top.
   const std::uint8_t* pixels() const { return shade_; }
   // The same as a u8 slice view, for image writers.
@@ -138,6 +153,8 @@ class ZBufferRenderer {
   static constexpr int kShadeLevels = 1024;  // lighting lookup: c quantised to 1/1023
   float* depth_ = nullptr;
   std::uint8_t* shade_ = nullptr;
+  std::uint32_t* tags_ = nullptr;  // tag_pixels()
+  std::uint32_t tag_ = 0;
   std::uint32_t width_ = 0;
   std::uint32_t height_ = 0;
   Camera camera_;
@@ -158,5 +175,12 @@ class ZBufferRenderer {
   std::size_t fragment_count_ = 0;
   bool fragments_overflowed_ = false;
 };
+
+// composite() on bare arrays of `pixels` entries, for pictures that arrive from elsewhere
+// (another process): where (other_depth, other_tag) is lower than (depth, tag), the pixel takes
+// the other's depth, shade and tag. Pixels never drawn have infinite depth and keep their own.
+void composite_pixels(float* depth, std::uint8_t* shade, std::uint32_t* tag,
+                      const float* other_depth, const std::uint8_t* other_shade,
+                      const std::uint32_t* other_tag, std::size_t pixels);
 
 }  // namespace mvox
