@@ -150,6 +150,13 @@ Status ZBufferRenderer::composite(const ZBufferRenderer& other) {
   return Status::ok;
 }
 
+Status ZBufferRenderer::composite(const float* depths, const std::uint8_t* shades,
+                                  const std::uint32_t* tags) {
+  if (!depth_ || !tags_ || !depths || !shades || !tags) return Status::invalid_argument;
+  composite_pixels(depth_, shade_, tags_, depths, shades, tags, std::size_t{width_} * height_);
+  return Status::ok;
+}
+
 void ZBufferRenderer::draw_polygon(const glm::vec3* positions, const glm::vec3* normals,
                                    int vertex_count) {
   if (project_polygon(positions, vertex_count)) draw_projected(normals);

@@ -104,13 +104,23 @@ std::unique_ptr<PictureLayer> SurfacePicture::new_layer(const VertexNormals* nor
                                         frame_origin_, options_.smooth ? normals : nullptr);
 }
 
+void SurfacePicture::start_tagging() {
+  if (!tags_.empty()) return;
+  tags_.resize(std::size_t{renderer_.width()} * renderer_.height());
+  renderer_.tag_pixels(tags_.data());
+}
+
 void SurfacePicture::composite(const PictureLayer& layer) {
-  if (tags_.empty()) {
-    tags_.resize(std::size_t{renderer_.width()} * renderer_.height());
-    renderer_.tag_pixels(tags_.data());
-  }
+  start_tagging();
   if (renderer_.composite(layer.renderer()) != Status::ok)
     throw Error("renderer", "internal error: a layer of another size");
+}
+
+void SurfacePicture::composite(const float* depths, const std::uint8_t* shades,
+                               const std::uint32_t* tags) {
+  start_tagging();
+  if (renderer_.composite(depths, shades, tags) != Status::ok)
+    throw Error("renderer", "internal error: a layer without pixels");
 }
 
 void SurfacePicture::write_frame(std::uint32_t slices_done) {

@@ -99,12 +99,15 @@ class SurfacePicture {
   // Frames and the live window follow slices as one engine takes them, so they need one engine.
   std::unique_ptr<PictureLayer> new_layer(const VertexNormals* normals) const;
   void composite(const PictureLayer& layer);
+  // A layer's arrays (width * height entries each) from another process (mvox-mpi).
+  void composite(const float* depths, const std::uint8_t* shades, const std::uint32_t* tags);
   bool smooth() const { return options_.smooth; }
   // The picture's file, once complete() has sealed it (null without --image).
   OutputFile* image_file() { return image_file_ ? &*image_file_ : nullptr; }
 
  private:
   void write_frame(std::uint32_t slices_done);
+  void start_tagging();  // before the first layer is composited
 
   PictureOptions options_;
   std::uint32_t depth_ = 0;    // slices the source announced: sets the frame names' width

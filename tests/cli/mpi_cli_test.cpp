@@ -106,6 +106,37 @@ TEST(MpiRanks, ImageStacksAndRawSlicesAreTheSameBytesToo) {
   expect_same_for_any_ranks(dir, "'slice*.raw' --raw 30x20:u8", "obj", "-t 128");
 }
 
+// Each rank draws its slab into a layer; one reduction over the ranks keeps the nearest
+// fragment of each pixel, ties to the lowest rank: the picture of one process, bit for bit,
+// from every side, alone or with a mesh.
+TEST(MpiRanks, ThePictureIsTheSameBytesAsOneProcess) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 41 * 23 * 37, 9);
+  const std::string input = "noise.raw --raw 41x23x37:u8 -t 128 -q ";
+  const char* cases[] = {"", "--view 0 -60", "--view 200 -30 --flat --image-size 97x61",
+                         "-o m.ply --normals --view 120 10", "-o m.stl --view 0 89"};
+  for (const char* options : cases) {
+    SCOPED_TRACE(options);
+    const test::CommandResult alone = run_mvox(
+        "extract " + input + options + " --threads 1 --image alone.png --stats s.json", dir.path());
+    ASSERT_EQ(alone.exit_code, 0) << alone.output;
+    const std::string reference = test::read_bytes(dir.path() / "alone.png");
+    const std::string counters = counters_of(test::read_bytes(dir.path() / "s.json"));
+    const bool mesh = std::string(options).find("-o ") != std::string::npos;
+    const std::string mesh_name = std::string(options).find(".stl") != std::string::npos ? "m.stl" : "m.ply";
+    const std::string reference_mesh = mesh ? test::read_bytes(dir.path() / mesh_name) : "";
+    for (int ranks = 1; ranks <= 4; ++ranks) {
+      SCOPED_TRACE("ranks " + std::to_string(ranks));
+      const test::CommandResult result = run_ranks(
+          ranks, "extract " + input + options + " --image ranks.png --stats s.json", dir.path());
+      ASSERT_EQ(result.exit_code, 0) << result.output;
+      EXPECT_TRUE(test::read_bytes(dir.path() / "ranks.png") == reference) << "another picture";
+      EXPECT_EQ(counters_of(test::read_bytes(dir.path() / "s.json")), counters);
+      if (mesh) EXPECT_TRUE(test::read_bytes(dir.path() / mesh_name) == reference_mesh);
+    }
+  }
+}
+
 TEST(MpiRanks, MoreRanksThanSlicesLeavesTheExtraRanksIdle) {
   test::ScratchDirectory dir;
   write_noise(dir / "thin.raw", 40 * 40 * 2, 3);
@@ -117,6 +148,15 @@ TEST(MpiRanks, MoreRanksThanSlicesLeavesTheExtraRanksIdle) {
   ASSERT_EQ(ranks.exit_code, 0) << ranks.output;
   EXPECT_TRUE(test::read_bytes(dir.path() / "ranks.ply") ==
               test::read_bytes(dir.path() / "alone.ply"));
+  // A picture too: the idle ranks' layers are empty.
+  ASSERT_EQ(run_mvox("extract thin.raw --raw 40x40x2:u8 -t 128 -q --image alone.png", dir.path())
+                .exit_code,
+            0);
+  const test::CommandResult drawn =
+      run_ranks(4, "extract thin.raw --raw 40x40x2:u8 -t 128 -q --image ranks.png", dir.path());
+  ASSERT_EQ(drawn.exit_code, 0) << drawn.output;
+  EXPECT_TRUE(test::read_bytes(dir.path() / "ranks.png") ==
+              test::read_bytes(dir.path() / "alone.png"));
 }
 
 TEST(MpiRanks, ABadSliceFailsAsOneProcessFailsAndLeavesNothing) {
@@ -156,7 +196,7 @@ TEST(MpiRanks, WhatRanksCannotShareIsRefusedInOneLine) {
   };
   const Refusal refusals[] = {
       {input + "-o -", "standard output"},
-      {input + "-o m.ply --image p.png", "--image"},
+      {input + "-o m.ply --image p.png --frames f", "--frames"},
       {input + "-o m.ply --threads 2", "--threads"},
       {"extract /dev/stdin --raw 20x20x8:u8 -t 128 -o m.ply < noise.raw", "pipe"},
   };

@@ -99,6 +99,9 @@ class ZBufferRenderer {
   // invalid_argument, nothing changed). Counters add up, but those that depend on what was
   // drawn before (hidden, drawn, fragments written) are not one renderer's.
   Status composite(const ZBufferRenderer& other);
+  // The same with another picture's arrays of width() * height() entries (from another process),
+  // without counters.
+  Status composite(const float* depths, const std::uint8_t* shades, const std::uint32_t* tags);
 
   // The picture: width() * height() bytes, row by row from the top.
   const std::uint8_t* pixels() const { return shade_; }

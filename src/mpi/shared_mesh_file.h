@@ -1,0 +1,37 @@
+#pragma once
+// The one mesh file the ranks of mvox-mpi write together: rank 0's head, then each rank's part
+// at offsets from an exclusive scan of the parts' sizes, with MPI-IO. PLY's parts have two
+// sections, their vertex records and their face records, and every rank's vertices come before
+// anyone's faces; STL's and OBJ's parts are one section each.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mpi/mpi_world.h"
+
+namespace mvox {
+
+// What each rank tells the others about its part.
+struct PartShape {
+  std::uint64_t vertex_bytes = 0;  // its bytes that go among the vertices (all, for OBJ and STL)
+  std::uint64_t face_bytes = 0;    // those that go among the faces (PLY)
+  std::uint64_t faces = 0;
+};
+
+struct PartOffsets {
+  std::uint64_t vertex_at = 0;
+  std::uint64_t face_at = 0;
+};
+
+// Where rank `rank`'s sections go, after a head of `head_bytes`.
+PartOffsets part_offsets(const std::vector<PartShape>& shapes, int rank, std::uint64_t head_bytes);
+
+// Collective, in agreed steps (MpiWorld::step): opens `path` (rank 0's temporary of the output,
+// named `subject` in messages), rank 0 writes `head`, each rank with a part copies it from the
+// file `part_path` (its vertex section, then its face section, as `shapes[rank]` says; empty
+// path: no part), MPI_File_sync with `sync`, and close. Throws as MpiWorld::step does.
+void write_mesh_together(MpiWorld& world, const std::string& path, const std::string& subject,
+                         const std::string& head, const std::vector<PartShape>& shapes,
+                         const std::string& part_path, bool sync);
+
+}  // namespace mvox
