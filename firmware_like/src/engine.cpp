@@ -37,8 +37,11 @@ using detail::EngineState;
 
 namespace {
 
-// Slices wider or taller than this are refused: plane counters are 32-bit.
-constexpr std::uint64_t kMaxEdgesPerPlane = 0x7FFFFFFF;
+// Slices with more edges than this in a plane are refused: plane counters are 32-bit, and a
+// layer's polygons refer to vertices of at most six planes (x- and y-edges of two slices, the
+// z-edges below each), which must stay within kMaxVerticesBack of each other so that indices
+// modulo 2^32 can be made whole again (mesh.h). About 26,700 x 26,700 voxels.
+constexpr std::uint64_t kMaxEdgesPerPlane = (kMaxVerticesBack - 1) / 6;
 
 constexpr std::uint64_t align_up(std::uint64_t bytes) {
   return (bytes + kWorkspaceAlignment - 1) & ~std::uint64_t{kWorkspaceAlignment - 1};
@@ -165,6 +168,10 @@ void detail::use_baseline_loops(Engine& engine) {
   if (engine.state_) engine.state_->use_avx2 = false;
 }
 
+void detail::number_vertices_from(Engine& engine, std::uint64_t first) {
+  if (engine.counters_.slices == 0) engine.counters_.vertices = first;
+}
+
 Status Engine::fail(Status status) {
   failure_ = status;
   return status;
@@ -272,10 +279,9 @@ class Emitter {
     }
   }
 
-  // The one place a vertex is produced. Returns false when the sink refused or the index space
-  // is exhausted; status() says which.
+  // The one place a vertex is produced, numbered on without limit (polygons carry the index
+  // modulo 2^32, mesh.h). Returns false when the sink refused; status() says so.
   bool vertex(float x, float y, float z, Axis axis, bool inner_is_lower) {
-    if (vertex_count_ >= kMaxVertexCount) return stop(Status::vertex_index_overflow);
     Vertex& v = vertices_[vertex_fill_++];
     v.x = x;
     v.y = y;
@@ -288,11 +294,10 @@ class Emitter {
   }
 
   // Where the caller may write up to `count` vertices itself, then hand them over with
-  // commit_vertices(): null unless the batch has room for all of them and the index space too
-  // (so no vertex among them needs vertex()'s checks) and vertices stay at the midpoints.
+  // commit_vertices(): null unless the batch has room for all of them (so no vertex among them
+  // needs a flush) and vertices stay at the midpoints.
   Vertex* reserve_vertices(std::uint32_t count) const {
-    const bool room = vertex_capacity_ - vertex_fill_ >= count &&
-                      kMaxVertexCount - vertex_count_ >= count && !interpolation_;
+    const bool room = vertex_capacity_ - vertex_fill_ >= count && !interpolation_;
     return room ? vertices_ + vertex_fill_ : nullptr;
   }
 
@@ -1025,7 +1030,7 @@ Status Engine::begin_slab(const SliceView& previous, std::uint32_t first_slice) 
     ok = emit_vertices(st, hi, z, height_, true, false, emitter, 0) && emitter.flush_vertices();
   }
   st.sink = sink;
-  if (!ok) return fail(Status::vertex_index_overflow);
+  if (!ok) return fail(Status::sink_refused);  // the discarding sink never refuses: not reached
   counters_.shared_vertices = counters_.vertices;
   first_slice_ = first_slice;
   return Status::ok;

@@ -14,7 +14,7 @@ const char* status_message(Status status) {
     case Status::slice_size_mismatch: return "slice size differs from the first slice";
     case Status::already_finished: return "volume already finished";
     case Status::sink_refused: return "output refused the data";
-    case Status::vertex_index_overflow: return "more than 2^31-1 vertices";
+    case Status::vertex_index_overflow: return "vertex index overflow";
   }
   return "unknown status";
 }

@@ -140,8 +140,8 @@ Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, s
 
 void SlabJoin::relocate(Polygon* polygons, std::uint32_t count, bool own_only) const {
   // Local index i < shared: the previous slab's last slice's vertex shared_base + i; any
-  // other: this slab's own vertex slab_base + i - shared. In 32 bits: the writer has refused
-  // the vertices before an index could pass 2^31 (kMaxVertexCount), so none wraps.
+  // other: this slab's own vertex slab_base + i - shared. Modulo 2^32, as the engine gives
+  // indices (mvox/mesh.h): the writer makes them whole.
   const auto own = static_cast<std::uint32_t>(slab_base_ - shared_);
   if (own_only) {
     for (std::uint32_t i = 0; i < count; ++i)

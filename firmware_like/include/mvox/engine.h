@@ -28,6 +28,10 @@ struct EngineState;  // pointers into the workspace, defined in engine.cpp
 // init() chose for this CPU (AVX2 ones on x86-64 that has it), so that both are tested on one
 // machine. Both give identical output.
 void use_baseline_loops(Engine& engine);
+// For tests: makes `engine`, after init() and before the first slice, number its vertices from
+// `first` on, as if that many had come before: a volume's four billionth vertex without four
+// billion vertices (polygons carry indices modulo 2^32, mvox/mesh.h). The counters count them.
+void number_vertices_from(Engine& engine, std::uint64_t first);
 }  // namespace detail
 
 // Workspace pointers must be aligned to this: the engine's widest type is a 64-bit word.
@@ -86,7 +90,7 @@ class Engine {
   // Classifies the next slice (z = number of slices pushed so far) and emits every vertex and
   // polygon that this slice completes. `slice.samples` is only read during the call, and need
   // not be aligned. A slice of the wrong size or type is refused and changes nothing. After
-  // sink_refused or vertex_index_overflow the engine stays failed: every later call returns it.
+  // sink_refused the engine stays failed: every later call returns it.
   Status push_slice(const SliceView& slice);
 
   // Closes the volume: the layer above the last slice (outside voxels are outer) is emitted.
@@ -120,6 +124,7 @@ class Engine {
 
  private:
   friend void detail::use_baseline_loops(Engine& engine);
+  friend void detail::number_vertices_from(Engine& engine, std::uint64_t first);
   Status fail(Status status);
   // invalid_argument or slice_size_mismatch for a slice this engine cannot take, else ok.
   Status check_slice(const SliceView& slice) const;

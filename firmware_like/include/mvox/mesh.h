@@ -8,9 +8,22 @@ namespace mvox {
 // Marching cubes emits triangles only.
 constexpr int kMaxPolygonVertices = 7;
 
-// At most this many vertices per mesh: their indices 0 .. 2^31 - 1 fit the signed 32-bit
-// integers that PLY and most mesh consumers index with.
-constexpr std::uint64_t kMaxVertexCount = std::uint64_t{1} << 31;
+// Vertex indices travel in 32 bits. The engine numbers vertices 0, 1, 2, ... without limit (a
+// 10^12-voxel scan can pass four billion) and a polygon carries each of its indices modulo 2^32.
+// That loses nothing: a polygon only refers to vertices of its own layer of cubes, fewer than
+// kMaxVerticesBack emitted before the polygon (the engine refuses slices large enough to break
+// that), so a sink that counts the vertices it has taken finds each whole index with
+// whole_vertex_index(). Below 2^32 vertices the two are the same number.
+constexpr std::uint64_t kMaxVerticesBack = std::uint64_t{1} << 32;
+
+// The whole index of the vertex a polygon gives as `index` (modulo 2^32), for a sink that has
+// taken `vertices_taken` vertices (at least one) when the polygon arrives: the one index
+// congruent to it among the last 2^32 taken. An index beyond what was taken comes out at or
+// above `vertices_taken`, so a sink can still tell it is bad.
+constexpr std::uint64_t whole_vertex_index(std::uint32_t index, std::uint64_t vertices_taken) {
+  return vertices_taken - 1 -
+         static_cast<std::uint32_t>(static_cast<std::uint32_t>(vertices_taken - 1) - index);
+}
 
 // Axis of the voxel pair a vertex sits between: x, y or z neighbours.
 enum class Axis : std::uint8_t { x = 0, y = 1, z = 2 };

@@ -49,7 +49,7 @@ void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t co
                 "indices are copied as bytes");
   for (std::size_t i = 0; i < count; ++i) {
     const Polygon& polygon = polygons[i];
-    std::memcpy(index, polygon.vertices, sizeof polygon.vertices);  // < 2^31 (kMaxVertexCount)
+    std::memcpy(index, polygon.vertices, sizeof polygon.vertices);  // < 2^31 (vertex_limit): whole
     index += polygon.vertex_count;
     at += polygon.vertex_count;
     *offset++ = at;

@@ -67,6 +67,9 @@ class MeshArraysWriter : public MeshWriter {
   MeshArrays& arrays() { return arrays_; }
   const std::string& subject() const override { return subject_; }
   OutputFile* output_file() override { return nullptr; }
+  VertexLimit vertex_limit() const override {
+    return {std::uint64_t{1} << 31, "32-bit signed index arrays cannot address"};
+  }
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;

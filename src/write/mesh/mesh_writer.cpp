@@ -72,10 +72,10 @@ Status MeshWriter::consume_vertices_with_normals(const Vertex* vertices, const g
 }
 
 void MeshWriter::check_vertex_room(std::size_t vertex_count) const {
-  if (vertex_count > kMaxVertexCount - vertex_count_) {
-    throw Error(subject(), "more than " + std::to_string(kMaxVertexCount) +
-                               " vertices, which 32-bit signed indices cannot address");
-  }
+  const VertexLimit limit = vertex_limit();
+  if (vertex_count > limit.count - std::min(limit.count, vertex_count_))
+    throw Error(subject(), "more than " + std::to_string(limit.count) + " vertices, which " +
+                               limit.reason);
 }
 
 void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,
@@ -114,17 +114,23 @@ void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_cou
     for (int k = 0; k < kMaxPolygonVertices; ++k)
       if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
   }
-  if (sizes_ok && (polygon_count == 0 || highest < vertex_count_)) return;
+  // Below 2^32 vertices an index is its whole self; beyond, every index is checked whole.
+  const bool whole = vertex_count_ <= kMaxVerticesBack;
+  if (sizes_ok && (polygon_count == 0 || (whole && highest < vertex_count_))) return;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];
     const int count = polygon.vertex_count;
     const std::string face = "internal error: face " + std::to_string(polygon_count_ + i);
     if (count < 3 || count > kMaxPolygonVertices)
       throw Error(subject(), face + " has " + std::to_string(count) + " vertices");
-    for (int k = 0; k < count; ++k)
-      if (polygon.vertices[k] >= vertex_count_)
+    for (int k = 0; k < count; ++k) {
+      const std::uint64_t index = vertex_count_ == 0
+                                      ? polygon.vertices[k]
+                                      : whole_vertex_index(polygon.vertices[k], vertex_count_);
+      if (index >= vertex_count_)
         throw Error(subject(), face + " refers to vertex " + std::to_string(polygon.vertices[k]) +
                                    " of " + std::to_string(vertex_count_) + " written");
+    }
   }
 }
 

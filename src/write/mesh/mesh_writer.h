@@ -123,7 +123,17 @@ class MeshWriter : public PolygonSink {
 
   const MeshWriterOptions& options() const { return options_; }
 
+  // The most vertices the format can index, and why, for the refusal of one more (e.g. PLY's
+  // 32-bit index lists). No limit by default: the indices are whole (whole_vertex_index()).
+  struct VertexLimit {
+    std::uint64_t count;
+    const char* reason;  // "PLY's 32-bit index lists cannot address"
+  };
+  virtual VertexLimit vertex_limit() const { return {~std::uint64_t{0}, "64 bits cannot count"}; }
+
   // The derived writer's format. May throw mvox::Error; the base turns that into a refusal.
+  // Faces carry indices modulo 2^32 (mvox/mesh.h): whole_vertex_index(index, vertices_written())
+  // is the whole one, the same number while fewer than 2^32 vertices have been written.
   virtual void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) = 0;
   // `positions` has one entry per face when the writer asked for them, else it is null.
   virtual void write_faces(const Polygon* faces, const FacePositions* positions,
@@ -134,7 +144,7 @@ class MeshWriter : public PolygonSink {
  private:
   template <class Body>
   Status guarded(const char* batch, Body&& body);
-  // Throws unless `vertex_count` more vertices keep every index below kMaxVertexCount.
+  // Throws unless `vertex_count` more vertices stay within the format's vertex_limit().
   void check_vertex_room(std::size_t vertex_count) const;
   // `given`: the batch's normals when the caller computed them (normals_given), else null.
   void place_vertices(const Vertex* vertices, const glm::vec3* given, std::size_t vertex_count);

@@ -46,15 +46,16 @@ void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
   const bool with_normals = options().writes_normals();
   for (std::size_t i = 0; i < face_count; ++i) {
     const Polygon& face = faces[i];
-    // "f", then per vertex a space and "I" or "I//I", I of at most 10 digits, and the newline.
-    char line[1 + kMaxPolygonVertices * 23 + 1];
+    // "f", then per vertex a space and "I" or "I//I", I of at most 20 digits, and the newline.
+    char line[1 + kMaxPolygonVertices * 43 + 1];
     std::size_t used = 0;
     line[used++] = 'f';
     for (int k = 0; k < face.vertex_count; ++k) {
-      // OBJ counts from 1; indices stay below 2^31, so adding 1 cannot overflow.
-      char digits[10];
+      // OBJ counts from 1, in as many digits as the whole index takes (past 2^32 too).
+      char digits[20];
+      const std::uint64_t index = whole_vertex_index(face.vertices[k], vertices_written()) + 1;
       const std::size_t length = static_cast<std::size_t>(
-          std::to_chars(digits, digits + sizeof digits, face.vertices[k] + 1).ptr - digits);
+          std::to_chars(digits, digits + sizeof digits, index).ptr - digits);
       line[used++] = ' ';
       std::memcpy(line + used, digits, length);
       used += length;

@@ -17,9 +17,16 @@ constexpr std::size_t kEndHeaderBytes = sizeof kEndHeader - 1;
 // The padding line is "comment" followed by at least one space, so it is never empty.
 constexpr std::size_t kShortestPaddingBytes = sizeof "comment \n" - 1;
 
+// Signed 32-bit indices, as most readers expect, while they reach every vertex; unsigned up to
+// 2^32 vertices (PlyWriter::vertex_limit).
+const char* index_type(std::uint64_t vertex_count) {
+  return vertex_count <= (std::uint64_t{1} << 31) ? "int" : "uint";
+}
+
 // The header without its padding line and end_header.
 std::string header_lines(PlyFormat format, const MeshWriterOptions& options,
-                         std::uint64_t vertex_count, std::uint64_t face_count) {
+                         std::uint64_t vertex_count, std::uint64_t face_count,
+                         const char* indices) {
   std::string text = "ply\n";
   text += format == PlyFormat::ascii ? "format ascii 1.0\n" : "format binary_little_endian 1.0\n";
   for (const std::string& comment : options.comments) text += "comment " + comment + "\n";
@@ -27,7 +34,7 @@ std::string header_lines(PlyFormat format, const MeshWriterOptions& options,
   text += "property float x\nproperty float y\nproperty float z\n";
   if (options.writes_normals()) text += "property float nx\nproperty float ny\nproperty float nz\n";
   text += "element face " + std::to_string(face_count) + "\n";
-  text += "property list uchar int vertex_indices\n";
+  text += std::string("property list uchar ") + indices + " vertex_indices\n";
   return text;
 }
 
@@ -35,9 +42,13 @@ std::string header_lines(PlyFormat format, const MeshWriterOptions& options,
 // line so that it fills the area reserved for the widest counts exactly.
 std::string padded_header(PlyFormat format, const MeshWriterOptions& options,
                           std::uint64_t vertex_count, std::uint64_t face_count) {
-  const std::size_t reserved = header_lines(format, options, kWidestCount, kWidestCount).size() +
-                               kShortestPaddingBytes + kEndHeaderBytes;
-  std::string header = header_lines(format, options, vertex_count, face_count);
+  // Reserved for the widest counts with "int": "uint" needs one byte more, and comes only with
+  // counts of 10 digits, never 20.
+  const std::size_t reserved =
+      header_lines(format, options, kWidestCount, kWidestCount, "int").size() +
+      kShortestPaddingBytes + kEndHeaderBytes;
+  std::string header =
+      header_lines(format, options, vertex_count, face_count, index_type(vertex_count));
   header += "comment";
   header.append(reserved - header.size() - kEndHeaderBytes - 1, ' ');
   header += '\n';
@@ -124,7 +135,8 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
       const int count = face.vertex_count;
       // MeshWriter checked every face; checked again so the line below provably fits.
       if (count > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
-      // "7" and seven indices of at most 10 digits, each after a space, and the newline.
+      // "7" and seven indices of at most 10 digits (below 2^32: vertex_limit), each after a
+      // space, and the newline.
       char line[1 + kMaxPolygonVertices * 11 + 1];
       char* end = line;
       *end++ = static_cast<char>('0' + count);
@@ -161,8 +173,9 @@ void PlyWriter::complete_file() {
     part_face_bytes_ = faces_.bytes_written();
     faces_.copy_to(out_);
   } else if (vertex_spool_) {
-    const std::string header =
-        header_lines(format_, options(), vertices_written(), faces_written()) + kEndHeader;
+    const std::string header = header_lines(format_, options(), vertices_written(), faces_written(),
+                                            index_type(vertices_written())) +
+                               kEndHeader;
     out_.write(header.data(), header.size());
     vertex_spool_->copy_to(out_);
     faces_.copy_to(out_);

@@ -20,7 +20,8 @@ struct PlyWriterOptions : MeshWriterOptions {
 
 // A MeshWriter for PLY:
 //   element vertex N: property float x, y, z (and nx, ny, nz with options.normals)
-//   element face M:   property list uchar int vertex_indices
+//   element face M:   property list uchar int vertex_indices (uint above 2^31 vertices; at
+//                     most 2^32 vertices, beyond which PLY's 32-bit lists cannot reach)
 // N and M are known only at the end, so vertices go into the output (an OutputFile temporary)
 // after a header area reserved for the largest possible counts, and faces into a ScratchFile in
 // the same directory. finish() appends the faces, writes the real header into the reserved area
@@ -42,6 +43,10 @@ class PlyWriter final : public MeshWriter {
   static std::string head(const PlyWriterOptions& options, std::uint64_t vertex_count,
                           std::uint64_t face_count);
   std::uint64_t part_face_bytes() const override { return part_face_bytes_; }
+  VertexLimit vertex_limit() const override {
+    return {std::uint64_t{1} << 32,
+            "PLY's 32-bit index lists cannot address; write OBJ, whose indices have no limit"};
+  }
 
   // Bytes of the header area for these options (binary and ASCII alike), which is also the
   // offset of the first vertex in a file written to a regular target.

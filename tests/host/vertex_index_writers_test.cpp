@@ -1,0 +1,134 @@
+// Vertex indices past 2^31 and 2^32 in the mesh writers, without writing billions of vertices:
+// the engine numbers from just below the limit (detail::number_vertices_from) into a writer
+// of a part that starts there (MeshWriterOptions::part). OBJ writes whole indices of any size;
+// PLY says "uint" past 2^31 and refuses past 2^32 with one line naming OBJ; the in-memory
+// arrays refuse past 2^31; STL cannot count past 2^32 - 1 triangles. Never a wrapped index.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "command_runner.h"
+#include "file_io.h"
+#include "mvox/engine.h"
+#include "mvox/workspace_buffer.h"
+#include "write/mesh/mesh_arrays.h"
+#include "write/mesh/mesh_format.h"
+
+namespace mvox {
+namespace {
+
+constexpr std::uint32_t kW = 37, kH = 29, kD = 23;
+constexpr std::uint64_t k2to31 = std::uint64_t{1} << 31, k2to32 = std::uint64_t{1} << 32;
+
+std::vector<std::uint8_t> noise() {
+  std::vector<std::uint8_t> samples(std::size_t{kW} * kH * kD);
+  std::mt19937 random(11);
+  for (std::uint8_t& sample : samples) sample = static_cast<std::uint8_t>(random());
+  return samples;
+}
+
+// Runs the engine over the noise into `writer`, numbering from `first`. The engine's status.
+Status extract(MeshWriter& writer, std::uint64_t first) {
+  static const std::vector<std::uint8_t> samples = noise();
+  EngineOptions options;
+  options.polygon_geometry = writer.needs_polygon_geometry();
+  WorkspaceBuffer workspace(engine_workspace_bytes(kW, kH, options));
+  Engine engine;
+  Status status = engine.init(workspace.data(), workspace.bytes(), kW, kH, 128, options, &writer);
+  if (status != Status::ok) return status;
+  detail::number_vertices_from(engine, first);
+  for (std::uint32_t z = 0; z < kD && status == Status::ok; ++z) {
+    SliceView slice;
+    slice.samples = samples.data() + std::size_t{z} * kW * kH;
+    slice.width = kW;
+    slice.height = kH;
+    slice.row_stride_bytes = kW;
+    slice.type = SampleType::u8;
+    status = engine.push_slice(slice);
+  }
+  return status == Status::ok ? engine.finish() : status;
+}
+
+MeshWriterOptions part_from(std::uint64_t first) {
+  MeshWriterOptions options;
+  options.part = MeshWriterOptions::Part{first};
+  return options;
+}
+
+// The indices of an OBJ's "f" lines, in order.
+std::vector<std::uint64_t> face_indices(const std::string& obj) {
+  std::vector<std::uint64_t> indices;
+  std::istringstream lines(obj);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("f ", 0) != 0) continue;
+    std::istringstream fields(line.substr(2));
+    std::uint64_t index;
+    while (fields >> index) indices.push_back(index);
+  }
+  return indices;
+}
+
+TEST(VertexIndexWriters, ObjWritesWholeIndicesPast2To32) {
+  test::ScratchDirectory dir;
+  auto from_zero = open_mesh_writer(dir / "zero.obj", MeshFormat::obj, part_from(0));
+  ASSERT_EQ(extract(*from_zero, 0), Status::ok);
+  from_zero->finish();
+  const std::uint64_t first = k2to32 - 10000;
+  auto high = open_mesh_writer(dir / "high.obj", MeshFormat::obj, part_from(first));
+  ASSERT_EQ(extract(*high, first), Status::ok);
+  high->finish();
+  const std::vector<std::uint64_t> reference = face_indices(test::read_bytes(dir.path() / "zero.obj"));
+  const std::vector<std::uint64_t> moved = face_indices(test::read_bytes(dir.path() / "high.obj"));
+  ASSERT_EQ(moved.size(), reference.size());
+  ASSERT_GT(reference.size(), 50000u);
+  std::size_t past = 0;
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    ASSERT_EQ(moved[i], reference[i] + first) << "index " << i;
+    past += moved[i] > k2to32;
+  }
+  EXPECT_GT(past, 10000u) << "no index passed 2^32";
+}
+
+TEST(VertexIndexWriters, PlySaysUintPast2To31AndRefusesPast2To32) {
+  test::ScratchDirectory dir;
+  // Past 2^31: written, with unsigned index lists in the head.
+  const std::uint64_t first = k2to31 - 10000;
+  auto part = open_mesh_writer(dir / "part.ply", MeshFormat::ply, part_from(first));
+  ASSERT_EQ(extract(*part, first), Status::ok);
+  part->finish();
+  const std::string past = mesh_file_head(MeshFormat::ply, {}, part->vertices_written(), 1);
+  EXPECT_NE(past.find("property list uchar uint vertex_indices"), std::string::npos) << past;
+  const std::string below = mesh_file_head(MeshFormat::ply, {}, k2to31, 1);
+  EXPECT_NE(below.find("property list uchar int vertex_indices"), std::string::npos) << below;
+  EXPECT_EQ(past.size(), below.size()) << "the head's reserved size moved";
+  // Past 2^32: refused, the vertex batch that would cross it, with one line naming OBJ.
+  const std::uint64_t high = k2to32 - 10000;
+  auto refused = open_mesh_writer(dir / "refused.ply", MeshFormat::ply, part_from(high));
+  EXPECT_EQ(extract(*refused, high), Status::sink_refused);
+  ASSERT_NE(refused->error(), nullptr);
+  const std::string message = refused->error()->what();
+  EXPECT_NE(message.find("more than 4294967296 vertices"), std::string::npos) << message;
+  EXPECT_NE(message.find("write OBJ"), std::string::npos) << message;
+  EXPECT_THROW(refused->finish(), Error);
+  refused.reset();  // a writer that never finished deletes its temporary
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"part.ply"}) << "a refused file was left";
+}
+
+TEST(VertexIndexWriters, ArraysRefusePast2To31AndStlCountsTo2To32) {
+  MeshArraysWriter arrays(part_from(k2to31 - 10000), "mvox.extract");
+  EXPECT_EQ(extract(arrays, k2to31 - 10000), Status::sink_refused);
+  ASSERT_NE(arrays.error(), nullptr);
+  EXPECT_NE(std::string(arrays.error()->what()).find("more than 2147483648 vertices"),
+            std::string::npos)
+      << arrays.error()->what();
+  EXPECT_NO_THROW(mesh_file_head(MeshFormat::stl, {}, 0, k2to32 - 1));
+  EXPECT_THROW(mesh_file_head(MeshFormat::stl, {}, 0, k2to32), Error);
+}
+
+}  // namespace
+}  // namespace mvox
