@@ -4,7 +4,8 @@
 #   - in memory, by one engine and by 1..MAX_THREADS slab workers (mvox_bench_threads), and
 #   - end to end, raw file to binary PLY, by `mvox extract --threads N` (hyperfine, medians);
 # a PNG stack of the same size (mvox phantom blobs), where each worker decodes its own slabs;
-# and the peak memory of each end-to-end run on the volume and on one 4x as deep, to show it
+# the picture (--image) drawn by 1..MAX_THREADS; mvox-mpi on 1..MAX_RANKS (default 4) ranks,
+# oversubscribed, when it is built; and the peak memory of each end-to-end run on the volume and on one 4x as deep, to show it
 # is flat in depth. Prints Markdown.
 #   bench/threads_scaling.sh BUILD_DIR [RUNS] [DEPTH] [MAX_THREADS] [DATASETS_DIR]
 set -euo pipefail
@@ -79,6 +80,71 @@ echo "## End to end: PNG stack to binary PLY (each worker decodes its own slabs)
 echo
 "$mvox" phantom blobs --size "256x256x$depth" -o "$scratch/stack" -q
 end_to_end png "$scratch/stack -t 128"
+
+echo "## End to end: raw file to a picture (--image), each worker drawing a layer of its own"
+echo
+picture_commands=()
+picture_names=()
+for threads in $(seq 1 "$max_threads"); do
+  picture_commands+=("$mvox extract $scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q --image $scratch/picture-$threads.png --threads $threads")
+  picture_names+=("--threads $threads")
+done
+hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/picture.json" \
+  "${picture_commands[@]}" > /dev/null
+table "$scratch/picture.json" "${picture_names[@]}"
+for threads in $(seq 2 "$max_threads"); do
+  cmp -s "$scratch/picture-1.png" "$scratch/picture-$threads.png" ||
+    { echo "$0: --threads $threads drew another picture than one thread" >&2; exit 1; }
+done
+echo
+echo "Every picture above is the same file, byte for byte."
+echo
+
+mpi=$build/src/mvox-mpi
+if [ -x "$mpi" ] && command -v mpirun > /dev/null; then
+  max_ranks=${MAX_RANKS:-4}
+  echo "## MPI ranks (mpirun --oversubscribe on this machine): raw file to binary PLY"
+  echo
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+  input="$scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q"
+  mpi_commands=("$mvox extract $input -o $scratch/alone.ply --threads 1")
+  mpi_names=("mvox extract --threads 1")
+  for ranks in $(seq 1 "$max_ranks"); do
+    mpi_commands+=("mpirun --quiet --oversubscribe -np $ranks $mpi extract $input -o $scratch/ranks-$ranks.ply")
+    mpi_names+=("mpirun -np $ranks mvox-mpi")
+  done
+  hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/mpi.json" \
+    "${mpi_commands[@]}" > /dev/null
+  table "$scratch/mpi.json" "${mpi_names[@]}"
+  for ranks in $(seq 1 "$max_ranks"); do
+    cmp -s "$scratch/alone.ply" "$scratch/ranks-$ranks.ply" ||
+      { echo "$0: $ranks ranks wrote another mesh than one process" >&2; exit 1; }
+  done
+  echo
+  echo "Every mesh above is the same file, byte for byte. Inside the job (the --stats total:"
+  echo "without starting the processes and MPI), medians of $runs:"
+  echo
+  echo "| run | job time |"
+  echo "|---|---|"
+  job_time() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["time_seconds"]["total"])' "$1"; }
+  row() {
+    local name=$1
+    shift
+    for run in $(seq "$runs"); do
+      "$@" --stats "$scratch/s.json" > /dev/null
+      job_time "$scratch/s.json"
+    done > "$scratch/job_times"
+    echo "| $name | $(median < "$scratch/job_times" | awk '{printf "%.0f ms", $1 * 1000}') |"
+  }
+  median() { sort -n | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
+  # shellcheck disable=SC2086
+  row "mvox extract --threads 1" "$mvox" extract $input -o "$scratch/alone.ply" --threads 1
+  for ranks in $(seq 1 "$max_ranks"); do
+    # shellcheck disable=SC2086
+    row "mpirun -np $ranks mvox-mpi" mpirun --quiet --oversubscribe -np "$ranks" "$mpi" extract $input -o "$scratch/ranks.ply"
+  done
+  echo
+fi
 
 echo "## Peak memory, flat in depth"
 echo

@@ -87,7 +87,9 @@ void check_distributable(const SliceSource& source, const MeshJob& job) {
     throw UsageError("--threads", "mvox-mpi runs one engine per rank: start more ranks instead");
   if (!own_range_reader(source))
     throw UsageError(job.input_label,
-                     "mvox-mpi needs an input every rank can read (files, not a pipe)");
+                     "mvox-mpi needs slices every rank can read on its own: image stacks, raw "
+                     "slices or volumes, NRRD or MetaImage with raw data; this input is read in "
+                     "order (a pipe, compressed data, TIFF or DICOM)");
 }
 
 // One rank's share of the job, step by step (distributed_mesh_job.h).

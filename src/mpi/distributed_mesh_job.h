@@ -3,8 +3,9 @@
 // `mvox extract` writes alone.
 //
 // Rank r of R takes slices [depth * r / R, depth * (r + 1) / R) as one slab (Engine::begin_slab)
-// and reads them itself, so the input must be files every rank can open (image stacks, raw
-// slices or volume, NRRD and MetaImage with raw data). Three collective steps:
+// and reads them itself, so the input must be files every rank can read from anywhere (image
+// stacks, raw slices or volume, NRRD and MetaImage with raw data: read/range_readable.h).
+// Three collective steps:
 //   1. count: each rank runs its slab's engine and keeps only how the slab ended (its vertex
 //      counts, SlabSummary); all ranks exchange these, and each knows from the ranks before it
 //      where its vertex numbers start (SlabJoin).
@@ -14,12 +15,15 @@
 //   3. write together: the ranks exchange their parts' sizes, an exclusive scan gives each its
 //      offsets, and each writes its part into the one output file with MPI-IO at those offsets
 //      (PLY: its vertex records among the vertices, its face records among the faces); rank 0
-//      writes the head with the whole mesh's counts.
+//      writes the head with the whole mesh's counts (shared_mesh_file.h).
+// A picture is drawn in step 2, each rank its slab into a layer of its own, and composited in
+// step 3 by one reduction over the ranks (picture_reduction.h); without a mesh, step 2 is the
+// only extraction.
 // Rank 0 then makes the file appear, as one process would: a temporary renamed onto the target
 // only when every rank has succeeded (output_file.h), with the --stats report beside it.
 //
 // Memory per rank is one engine's (workspace, reader, window, one recorded chunk, the writer's
-// buffers), whatever the depth and the number of ranks. The extraction runs twice, which costs
+// buffers, the picture's z-buffers), whatever the depth and the number of ranks. The extraction runs twice, which costs
 // less than waiting: without the counts no rank could number its vertices before the ranks
 // before it were done.
 #include "mvox/slice_source.h"
@@ -30,8 +34,8 @@ namespace mvox {
 
 // Runs `job` on this rank; every rank of `world` calls it with the same job. Throws mvox::Error
 // on the rank that reports a failure and OtherRankFailed on the others (MpiWorld::step).
-// Refuses, as usage errors, what a distributed run cannot do: a picture, standard output, and
-// an input that the ranks cannot each read (a pipe).
+// Refuses, as usage errors, what a distributed run cannot do: frames and the live window (they
+// follow one engine), standard output, --threads, and an input that the ranks cannot each read.
 void run_distributed_mesh_job(SliceSource& source, const MeshJob& job, MpiWorld& world);
 
 }  // namespace mvox

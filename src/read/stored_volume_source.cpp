@@ -28,7 +28,7 @@ void widen_i8_to_i16(unsigned char* bytes, std::size_t count) {
 }  // namespace
 
 StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data)
-    : volume_(volume), data_(std::move(data)), file_(data_.path) {
+    : volume_(volume), data_(std::move(data)), file_(data_.path), end_index_(volume.info.depth) {
   if (volume_.compression == Compression::none) {
     check_raw_size();
   } else {
@@ -113,8 +113,17 @@ void StoredVolumeSource::check_compressed_size() {
   }
 }
 
+std::unique_ptr<SliceSource> StoredVolumeSource::open_range(std::uint32_t first,
+                                                            std::uint32_t end) const {
+  // Opens the data file again and checks its size again, as a reader of its own.
+  auto range = std::make_unique<StoredVolumeSource>(volume_, data_);
+  range->next_index_ = first;
+  range->end_index_ = end;
+  return range;
+}
+
 bool StoredVolumeSource::next_slice(SliceView* slice) {
-  if (next_index_ >= volume_.info.depth) return false;
+  if (next_index_ >= end_index_) return false;
   const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
   if (buffer_.empty())
     resize_buffer(

@@ -9,6 +9,7 @@
 
 #include "mvox/slice_source.h"
 #include "read/inflate_reader.h"
+#include "read/range_readable.h"
 #include "read/raw_file.h"
 #include "read/stored_volume.h"
 
@@ -42,13 +43,18 @@ struct StoredVolumeData {
 // when compressed (working_bytes()). Samples are swapped to native order and signed bytes
 // widened to 16 bits in place.
 // Throws mvox::Error naming the data file: cannot open, too short (both sizes), corrupt.
-class StoredVolumeSource : public SliceSource {
+// Raw data can be read from anywhere (RangeReadable): slab workers and mvox-mpi's ranks each
+// read their own slices; compressed data only in order.
+class StoredVolumeSource : public SliceSource, public RangeReadable {
  public:
   StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data);
 
   const VolumeInfo& info() const override { return volume_.info; }
   bool next_slice(SliceView* slice) override;
   std::uint64_t working_bytes() const override;
+
+  bool range_readable() const override { return volume_.compression == Compression::none; }
+  std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
 
   // The file the samples are read from: the header itself for attached data.
   const std::string& data_path() const { return data_.path; }
@@ -64,6 +70,7 @@ class StoredVolumeSource : public SliceSource {
   std::unique_ptr<InflateReader> inflate_;
   std::vector<unsigned char> buffer_;  // the current slice, native order, engine's type
   std::uint32_t next_index_ = 0;
+  std::uint32_t end_index_ = 0;  // the depth, or a range's end (open_range)
 };
 
 // The first min(file size, max_bytes) bytes of `file`, where a text header is.

@@ -96,7 +96,7 @@ TEST(MpiRanks, EveryFormatAndOptionIsTheSameBytesAsOneProcess) {
   EXPECT_EQ(dir.entries(), sorted) << "a part or a temporary was left behind";
 }
 
-TEST(MpiRanks, ImageStacksAndRawSlicesAreTheSameBytesToo) {
+TEST(MpiRanks, ImageStacksRawSlicesAndMetaImageAreTheSameBytesToo) {
   test::ScratchDirectory dir;
   ASSERT_EQ(run_mvox("phantom blobs -o stack --size 40x36x30 -q", dir.path()).exit_code, 0);
   expect_same_for_any_ranks(dir, "stack", "ply", "-t 100 --normals");
@@ -104,6 +104,12 @@ TEST(MpiRanks, ImageStacksAndRawSlicesAreTheSameBytesToo) {
   for (int z = 0; z < 9; ++z)
     write_noise(dir / ("slice" + std::to_string(z) + ".raw"), 30 * 20, 100 + z);
   expect_same_for_any_ranks(dir, "'slice*.raw' --raw 30x20:u8", "obj", "-t 128");
+  // MetaImage with raw data.
+  write_noise(dir / "volume.raw", 30 * 20 * 17, 8);
+  test::write_bytes(dir / "volume.mhd",
+                    std::string("ObjectType = Image\nNDims = 3\nDimSize = 30 20 17\n"
+                                "ElementType = MET_UCHAR\nElementDataFile = volume.raw\n"));
+  expect_same_for_any_ranks(dir, "volume.mhd", "ply", "-t 128 --normals");
 }
 
 // Each rank draws its slab into a layer; one reduction over the ranks keeps the nearest

@@ -221,11 +221,20 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
     std::snprintf(name, sizeof name, "slices/s%03d.raw", z);
     test::write_bytes(dir / name, noise.substr(std::size_t{19} * 13 * z, 19 * 13));
   }
+  // MetaImage and NRRD with raw data: read by each worker for its own slabs too.
+  test::write_bytes(dir / "noise.mhd",
+                    std::string("ObjectType = Image\nNDims = 3\nDimSize = 19 13 29\n"
+                                "ElementType = MET_UCHAR\nElementDataFile = noise.raw\n"));
+  test::write_bytes(dir / "noise.nrrd",
+                    "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 19 13 29\nencoding: raw\n\n" +
+                        noise);
   const std::string inputs[] = {
       "stack -t 100",
       "stack -t 100 --normals",
       "'slices/s*.raw' --raw 19x13:u8 -t 128",
       "noise.raw --raw 19x13x29:u8 -t 128 --normals",
+      "noise.mhd -t 128 --normals",
+      "noise.nrrd -t 128",
   };
   for (const std::string& input : inputs) {
     for (const bool piped : {false, true}) {
