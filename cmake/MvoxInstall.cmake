@@ -34,6 +34,9 @@ endif()
 if(TARGET mvox)
   install(TARGETS mvox RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
+if(TARGET mvox-mpi)
+  install(TARGETS mvox-mpi RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/mvoxConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/mvoxConfig.cmake
