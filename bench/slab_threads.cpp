@@ -31,7 +31,8 @@ namespace {
 // class) and only counts them.
 class DiscardingMeshWriter final : public MeshWriter {
  public:
-  DiscardingMeshWriter() : MeshWriter(MeshWriterOptions(), Faces::as_polygons, Positions::not_needed) {}
+  DiscardingMeshWriter()
+      : MeshWriter(MeshWriterOptions(), Faces::as_polygons, Positions::not_needed) {}
   const std::string& subject() const override { return subject_; }
   OutputFile* output_file() override { return nullptr; }
 
@@ -150,7 +151,8 @@ int run(int argc, char** argv) {
       if (threads == 0) polygons = result.counters.polygons;
       if (threads > 0) {
         const auto alone_start = Clock::now();
-        const std::uint64_t counted = engines_alone(samples.data(), info, threshold, engine, threads);
+        const std::uint64_t counted =
+            engines_alone(samples.data(), info, threshold, engine, threads);
         alone[threads].push_back(std::chrono::duration<double>(Clock::now() - alone_start).count());
         if (counted != polygons) {
           std::fprintf(stderr, "engines alone, %u threads: %llu polygons, one engine %llu\n",

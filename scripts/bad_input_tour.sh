@@ -274,6 +274,22 @@ tour "bad slices in two slabs, 8 threads" \
   "head -c 300 /dev/urandom > stack/sphere_0002.png; truncate -s 40 stack/sphere_0005.png" \
   "mvox extract stack -t 128 -o previous.ply --stats previous.json -q --threads 8 --slab-slices 4"
 tour "--threads 0" "" "mvox extract stack -t 128 --threads 0 $outputs"
+# mvox-mpi, when built and mpirun is there: 4 ranks of 2 slices each. The lowest bad slice is
+# named, once, by the rank that read it, and no file is left.
+mpi_binary=$(dirname "$mvox_binary")/mvox-mpi
+if [ -x "$mpi_binary" ] && command -v mpirun > /dev/null; then
+  mvox-mpi() {
+    OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+      mpirun --quiet --oversubscribe -np 4 "$mpi_binary" "$@"
+  }
+  tour "mvox-mpi on 4 ranks: bad slices at ranks 1 and 2" \
+    "head -c 300 /dev/urandom > stack/sphere_0002.png; truncate -s 40 stack/sphere_0005.png" \
+    "mvox-mpi extract stack -t 128 $outputs"
+  tour "mvox-mpi on 4 ranks: a pipe" "" \
+    "head -c 960 /dev/zero | mvox-mpi extract /dev/stdin --raw 12x10x8:u8 -t 1 $outputs"
+else
+  echo "| mvox-mpi cases | skipped: $mpi_binary is not built or mpirun is absent | | | | |"
+fi
 tour "unknown --raw type" "" "mvox extract stack --raw 12x10:u7 -t 128 $outputs"
 tour "bad --image-size" "" "mvox extract stack -t 128 --image-size 0x0 $outputs"
 # Numbers that are not what they seem (NaN passes a range check, sscanf and strtoull wrap).

@@ -30,7 +30,8 @@ void set_message_program(const char* name) { program_name = name; }
 const char* message_program() { return program_name; }
 
 void print_message(const char* kind, std::string_view text) {
-  const std::string line = std::string(program_name) + ": " + std::string(kind) + ": " + one_line(text) + "\n";
+  const std::string line =
+      std::string(program_name) + ": " + std::string(kind) + ": " + one_line(text) + "\n";
   std::fputs(line.c_str(), stderr);
 }
 

@@ -201,9 +201,10 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                     "a power loss right after cannot leave it empty; costs 5-20 ms a file");
   command
       ->add_option("--threads", args->threads,
-                   "Extracting threads. Above 1, a mesh without a picture is cut into slabs "
-                   "of slices extracted in parallel and written as one thread writes it, byte "
-                   "for byte (volumes of one slab, about 1 MiB of samples, use one engine). 1: one "
+                   "Extracting threads. Above 1, the volume is cut into slabs of slices "
+                   "extracted in parallel; the mesh and the picture are what one thread makes, "
+                   "byte for byte (volumes of one slab, about 1 MiB of samples, and runs with "
+                   "--frames or --show use one engine). 1: one "
                    "thread does everything, for single-core devices. Default: one per core "
                    "for volumes of 64 MiB or more, else one engine and a reading thread")
       ->check(CLI::Range(1u, 1024u));

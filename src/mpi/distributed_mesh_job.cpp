@@ -10,6 +10,7 @@
 #include "mpi/shared_mesh_file.h"
 #include "mvox/workspace_buffer.h"
 #include "picture/normal_window.h"
+#include "picture/picture_layer.h"
 #include "picture/surface_picture.h"
 #include "pipeline/peak_memory.h"
 #include "pipeline/slab_engine_run.h"
@@ -18,6 +19,7 @@
 #include "pipeline/stopwatch.h"
 #include "read/range_readable.h"
 #include "write/mesh/mesh_writer.h"
+#include "write/mesh/ply_writer.h"
 #include "write/output_file.h"
 #include "write/slice_image_writer.h"
 
@@ -34,9 +36,7 @@ class ReaderSlices final : public SlabSlices {
     const auto start = Clock::now();
     const bool more = reader_.next_slice(view);
     read_seconds += seconds_since(start);
-    if (!more)
-      throw Error(input_label_, "ended after " + std::to_string(z) + " of its " +
-                                    std::to_string(depth_) + " slices");
+    if (!more) throw slices_ended_early(input_label_, z, depth_);
     return true;
   }
 
@@ -78,8 +78,9 @@ class OneChunk final : public SlabRecorder::Handover {
 
 void check_distributable(const SliceSource& source, const MeshJob& job) {
   if (job.output == "-")
-    throw UsageError("-o", "mvox-mpi writes a file that every rank writes into; standard output "
-                           "cannot be");
+    throw UsageError("-o",
+                     "mvox-mpi writes a file that every rank writes into; standard output "
+                     "cannot be");
   if (!job.picture.frames_dir.empty() || job.picture.show)
     throw UsageError(job.picture.show ? "--show" : "--frames",
                      "frames and the window follow one engine slice by slice: use mvox extract");
@@ -109,9 +110,8 @@ class RankRun {
     whole_mesh_.normals_given = job.normals;
     window_ = job.normals || (job.picture.wanted() && job.picture.smooth);
     const auto at = [&](int rank) {
-      return static_cast<std::uint32_t>(std::uint64_t{info_.depth} *
-                                         static_cast<unsigned>(rank) /
-                                         static_cast<unsigned>(world.size()));
+      return static_cast<std::uint32_t>(std::uint64_t{info_.depth} * static_cast<unsigned>(rank) /
+                                        static_cast<unsigned>(world.size()));
     };
     span_ = SlabSpan::of(at(world.rank()), at(world.rank() + 1), info_.depth, window_);
   }
@@ -133,6 +133,8 @@ class RankRun {
   MemoryPlan plan_memory() const;
   // Every rank's summary of its slab: where this rank's vertex numbers start, and the counters.
   void join_summaries(const SlabSummary& mine);
+  // Refuses, naming the output, a mesh its format cannot hold, known from the counts.
+  void check_format_limits() const;
   // Runs this rank's slab: into `replay` (null: nothing recorded) and `layer` (may be null).
   SlabSummary run_slab(const EngineOptions& engine, const VertexPlacement* placement,
                        SlabReplay* replay, bool mesh_normals, bool draw);
@@ -150,11 +152,12 @@ class RankRun {
   Clock::time_point start_ = Clock::now();
   double read_seconds_ = 0;
   double write_seconds_ = 0;
-  std::optional<OutputFile> mesh_file_;   // rank 0
-  std::optional<OutputFile> stats_file_;  // rank 0
+  std::optional<OutputFile> mesh_file_;    // rank 0
+  std::optional<OutputFile> stats_file_;   // rank 0
   std::optional<SurfacePicture> picture_;  // every rank: the camera; rank 0's is the image
   std::optional<NormalWindow> normal_window_;
   std::unique_ptr<PictureLayer> layer_;
+  SlabSummary counted_;  // this rank's slab, from the counting pass
   SlabJoin before_, whole_;
   std::unique_ptr<MeshWriter> part_;
   PartShape shape_;
@@ -175,11 +178,14 @@ MemoryPlan RankRun::plan_memory() const {
     plan.add("copying the part into the mesh", std::uint64_t{1} << 20);
   }
   if (job_.picture.wanted()) {
-    const std::uint64_t pixels = std::uint64_t{job_.picture.width} * job_.picture.height;
-    plan.add("picture and layer (z-buffers, compositing)",
-             zbuffer_workspace_bytes(job_.picture.width, job_.picture.height) +
-                 PictureLayer::bytes(job_.picture.width, job_.picture.height) + 2 * pixels +
-                 2 * pixels * 12);
+    // The picture with its slab numbers, the rank's layer, the reduction's buffers, MPI's own
+    // buffer for the tree (about one array of fragments), and the encoded image (rank 0).
+    const std::uint32_t w = job_.picture.width, h = job_.picture.height;
+    const std::uint64_t pixels = std::uint64_t{w} * h;
+    plan.add("picture, layer and compositing",
+             zbuffer_workspace_bytes(w, h) + 4 * pixels + PictureLayer::bytes(w, h) +
+                 PictureReduction::bytes(w, h) + pixels * sizeof(PictureReduction::Fragment) +
+                 2 * pixels);
   }
   return plan;
 }
@@ -250,14 +256,32 @@ SlabSummary RankRun::run_slab(const EngineOptions& engine, const VertexPlacement
 }
 
 void RankRun::count() {
-  SlabSummary mine;
   world_.step([&] {
     if (!has_slices()) return;
     EngineOptions counting = engine_;
     counting.polygon_geometry = false;
-    mine = run_slab(counting, nullptr, nullptr, false, false);  // nothing recorded
+    counted_ = run_slab(counting, nullptr, nullptr, false, false);  // nothing recorded
   });
-  join_summaries(mine);
+  join_summaries(counted_);
+  world_.step([&] { check_format_limits(); });
+}
+
+void RankRun::check_format_limits() const {
+  const EngineCounters& c = whole_.counters();
+  std::uint64_t triangles = 0;
+  for (int size = 3; size <= kMaxPolygonVertices; ++size)
+    triangles += std::uint64_t(size - 2) * c.polygons_by_size[size];
+  const bool triangles_only = job_.format == MeshFormat::stl || job_.mesh.triangulate;
+  try {
+    (void)mesh_file_head(job_.format, whole_mesh_, c.vertices,
+                         triangles_only ? triangles : c.polygons);
+  } catch (const Error& error) {
+    throw Error(job_.output, error.problem());
+  }
+  const bool ply = job_.format == MeshFormat::ply || job_.format == MeshFormat::ply_ascii;
+  if (ply && c.vertices > PlyWriter::kMaxVertices)
+    throw Error(job_.output, "more than " + std::to_string(PlyWriter::kMaxVertices) +
+                                 " vertices, which " + PlyWriter::kVertexLimitReason);
 }
 
 void RankRun::join_summaries(const SlabSummary& mine) {
@@ -293,6 +317,15 @@ void RankRun::extract() {
       throw;
     }
     part_->complete();
+    // The count gave this rank's vertex numbers and the header's counts: a file that changed
+    // between the passes must not give a mesh whose counts and indices disagree.
+    const std::uint64_t counted = counted_.counters.vertices - counted_.counters.shared_vertices;
+    const std::uint64_t written = part_->vertices_written() - before_.vertices_before();
+    if (written != counted)
+      throw Error(job_.input_label,
+                  "changed while being read: slices " + std::to_string(span_.first) + " to " +
+                      std::to_string(span_.end - 1) + " gave " + std::to_string(counted) +
+                      " vertices, then " + std::to_string(written));
     shape_.face_bytes = part_->part_face_bytes();
     shape_.vertex_bytes = part_->output_file()->bytes_written() - shape_.face_bytes;
     shape_.faces = part_->faces_written();
@@ -316,9 +349,14 @@ void RankRun::write_together() {
     part_.reset();  // deletes this rank's temporary part
   }
   if (picture_) {
+    std::optional<PictureReduction> reduction;
+    world_.step(
+        [&] { reduction.emplace(world_, layer_.get(), job_.picture.width, job_.picture.height); });
+    const int reduced = reduction->reduce();
     world_.step([&] {
-      reduce_picture(world_, layer_.get(), job_.picture.width, job_.picture.height,
-                     world_.rank() == 0 ? &*picture_ : nullptr, &report_.render);
+      if (reduced != MPI_SUCCESS)
+        throw Error("MPI", "compositing the picture failed: " + mpi_error_text(reduced));
+      if (world_.rank() == 0) reduction->composite_into(*picture_, &report_.render);
     });
   }
   write_seconds_ = seconds_since(write_start);

@@ -23,11 +23,11 @@
 // only when every rank has succeeded (output_file.h), with the --stats report beside it.
 //
 // Memory per rank is one engine's (workspace, reader, window, one recorded chunk, the writer's
-// buffers, the picture's z-buffers), whatever the depth and the number of ranks. The extraction runs twice, which costs
-// less than waiting: without the counts no rank could number its vertices before the ranks
-// before it were done.
-#include "mvox/slice_source.h"
+// buffers, the picture's z-buffers), whatever the depth and the number of ranks. The extraction
+// runs twice, which costs less than waiting: without the counts no rank could number its vertices
+// before the ranks before it were done.
 #include "mpi/mpi_world.h"
+#include "mvox/slice_source.h"
 #include "pipeline/mesh_job.h"
 
 namespace mvox {

@@ -5,7 +5,10 @@
 // lowest failing rank prints the one line, every rank exits with the same code as mvox would.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <exception>
 #include <new>
+#include <stdexcept>
+#include <string>
 
 #include "cli/commands.h"
 #include "error.h"
@@ -41,6 +44,27 @@ int run(mvox::MpiWorld& world, int argc, char** argv) {
   }
 }
 
+// The exit code mvox gives a failure: 2 for a usage error, 1 for a failed job.
+int exit_code_of(const std::exception_ptr& failure) {
+  try {
+    std::rethrow_exception(failure);
+  } catch (const mvox::UsageError&) {
+    return 2;
+  } catch (const std::invalid_argument&) {
+    return 2;
+  } catch (...) {
+    return 1;
+  }
+}
+
+// The one line for a failure, as mvox words it.
+std::string failure_line(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e))
+    return mvox::interrupt_subject() +
+           ": out of memory; mvox-mpi extract --dry-run tells what a rank needs";
+  return e.what();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -48,18 +72,19 @@ int main(int argc, char** argv) {
   mvox::set_message_program("mvox-mpi");
   mvox::install_termination_handling();
   mvox::set_interrupt_subject("mvox-mpi extract");
-  mvox::MpiWorld world(&argc, &argv);
+  mvox::MpiWorld world(&argc, &argv, &exit_code_of);
   int code = 0;
   try {
     code = run(world, argc, argv);
-  } catch (const mvox::OtherRankFailed&) {
-    code = 1;
+  } catch (const mvox::OtherRankFailed& e) {
+    code = e.exit_code;
   } catch (const std::exception& e) {
     // A rank that failed before the job began takes part in the others' first step, so that
-    // they do not wait for it; of the ranks that failed, the lowest reports.
-    const bool report = world.joined() || world.fail_before_join();
-    if (report) mvox::print_message("error", e.what());
-    code = dynamic_cast<const mvox::UsageError*>(&e) ? 2 : 1;
+    // they do not wait for it; of the ranks that failed, the lowest reports, and every rank
+    // ends with its exit code.
+    code = exit_code_of(std::current_exception());
+    const bool report = world.joined() || world.fail_before_join(std::current_exception(), &code);
+    if (report) mvox::print_message("error", failure_line(e));
   }
   // mpirun stops the other ranks when one fails; they have nothing more to say.
   if (code != 0) mvox::set_interrupts_quiet();

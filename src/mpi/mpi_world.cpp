@@ -5,10 +5,11 @@
 
 namespace mvox {
 
-MpiWorld::MpiWorld(int* argc, char*** argv) {
+MpiWorld::MpiWorld(int* argc, char*** argv, ExitCodeOf exit_code_of) : exit_code_of_(exit_code_of) {
   int provided = 0;
-  if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
-    std::fputs("mvox-mpi: error: MPI: cannot initialize\n", stderr);
+  if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS ||
+      provided < MPI_THREAD_FUNNELED) {
+    std::fputs("mvox-mpi: error: MPI: cannot start with threads beside the main one\n", stderr);
     std::exit(1);
   }
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
@@ -17,11 +18,14 @@ MpiWorld::MpiWorld(int* argc, char*** argv) {
 
 MpiWorld::~MpiWorld() { MPI_Finalize(); }
 
-int MpiWorld::lowest_failed(bool failed) const {
-  const int mine = failed ? rank_ : size_;
+int MpiWorld::agree(const std::exception_ptr& failure, int* code) const {
+  const int mine = failure ? rank_ : size_;
   int lowest = size_;
   MPI_Allreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, comm());
-  return lowest < size_ ? lowest : -1;
+  if (lowest == size_) return -1;
+  *code = lowest == rank_ ? exit_code_of_(failure) : 1;
+  MPI_Bcast(code, 1, MPI_INT, lowest, comm());
+  return lowest;
 }
 
 void MpiWorld::step(const std::function<void()>& body) {
@@ -32,15 +36,16 @@ void MpiWorld::step(const std::function<void()>& body) {
     failure = std::current_exception();
   }
   joined_ = true;
-  const int lowest = lowest_failed(failure != nullptr);
+  int code = 1;
+  const int lowest = agree(failure, &code);
   if (lowest < 0) return;
   if (lowest == rank_) std::rethrow_exception(failure);
-  throw OtherRankFailed();
+  throw OtherRankFailed(code);
 }
 
-bool MpiWorld::fail_before_join() {
+bool MpiWorld::fail_before_join(const std::exception_ptr& failure, int* code) {
   joined_ = true;
-  return lowest_failed(true) == rank_;
+  return agree(failure, code) == rank_;
 }
 
 std::string MpiWorld::broadcast(const std::string& text) const {
@@ -60,7 +65,8 @@ std::uint64_t MpiWorld::max(std::uint64_t value) const {
 std::string mpi_error_text(int code) {
   char text[MPI_MAX_ERROR_STRING];
   int length = 0;
-  if (MPI_Error_string(code, text, &length) != MPI_SUCCESS) return "MPI error " + std::to_string(code);
+  if (MPI_Error_string(code, text, &length) != MPI_SUCCESS)
+    return "MPI error " + std::to_string(code);
   return std::string(text, static_cast<std::size_t>(length));
 }
 

@@ -14,16 +14,20 @@
 namespace mvox {
 
 // Thrown on the ranks that did not fail themselves when another rank did: that rank reports
-// the failure, these end quietly with a failing exit code.
+// the failure, these end quietly with the same exit code.
 struct OtherRankFailed : std::exception {
+  explicit OtherRankFailed(int code) : exit_code(code) {}
   const char* what() const noexcept override { return "another rank failed"; }
+  int exit_code;
 };
 
 class MpiWorld {
  public:
   // MPI_Init_thread: mvox's own threads (reading ahead, background writes, the interrupt
-  // handler) never call MPI; only the main thread does.
-  MpiWorld(int* argc, char*** argv);
+  // handler) never call MPI; only the main thread does. `exit_code_of` gives the exit code a
+  // failure ends the process with; every rank ends with the reporting rank's.
+  using ExitCodeOf = int (*)(const std::exception_ptr& failure);
+  MpiWorld(int* argc, char*** argv, ExitCodeOf exit_code_of);
   ~MpiWorld();
   MpiWorld(const MpiWorld&) = delete;
   MpiWorld& operator=(const MpiWorld&) = delete;
@@ -39,11 +43,14 @@ class MpiWorld {
   void step(const std::function<void()>& body);
   // The first step, which a rank takes when it has read its options and opened its input
   // without error.
-  void join() { step([] {}); }
+  void join() {
+    step([] {});
+  }
   bool joined() const { return joined_; }
   // For a rank that failed before join(): takes part in the others' join() as the failing
-  // rank, and tells whether this rank is the one to report (the lowest failing one).
-  bool fail_before_join();
+  // rank, and tells whether this rank is the one to report (the lowest failing one); `*code`
+  // is the exit code every rank ends with.
+  bool fail_before_join(const std::exception_ptr& failure, int* code);
 
   // Every rank's `mine`, in rank order (T trivially copyable).
   template <class T>
@@ -59,9 +66,11 @@ class MpiWorld {
   std::uint64_t max(std::uint64_t value) const;
 
  private:
-  // The lowest rank that passes `failed`, or -1.
-  int lowest_failed(bool failed) const;
+  // Every rank's `failure` (null: none) agreed on: the lowest rank that failed, or -1, and that
+  // rank's exit code in `*code`.
+  int agree(const std::exception_ptr& failure, int* code) const;
 
+  ExitCodeOf exit_code_of_;
   int rank_ = 0;
   int size_ = 1;
   bool joined_ = false;

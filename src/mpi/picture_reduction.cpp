@@ -1,21 +1,15 @@
 #include "mpi/picture_reduction.h"
 
 #include <limits>
-#include <vector>
 
 #include "error.h"
+#include "picture/picture_layer.h"
 #include "picture/surface_picture.h"
 
 namespace mvox {
 namespace {
 
-// One pixel as it travels between ranks.
-struct Fragment {
-  float depth;
-  std::uint32_t tag;  // the rank that drew it
-  std::uint8_t shade;
-  std::uint8_t padding[3];
-};
+using Fragment = PictureReduction::Fragment;
 
 // MPI's user function: `into` keeps the lower of (depth, tag), as composite_pixels() does.
 void keep_nearest(void* from, void* into, int* count, MPI_Datatype*) {
@@ -29,54 +23,61 @@ void keep_nearest(void* from, void* into, int* count, MPI_Datatype*) {
   }
 }
 
-void check(int code, const char* what) {
-  if (code != MPI_SUCCESS) throw Error("MPI", std::string(what) + ": " + mpi_error_text(code));
-}
-
 }  // namespace
 
-void reduce_picture(const MpiWorld& world, const PictureLayer* layer, std::uint32_t width,
-                    std::uint32_t height, SurfacePicture* picture, RenderCounters* counters) {
-  const std::size_t pixels = std::size_t{width} * height;
-  std::vector<Fragment> mine(pixels, Fragment{std::numeric_limits<float>::infinity(), 0, 0, {}});
-  RenderCounters drawn;
-  if (layer) {
-    const ZBufferRenderer& renderer = layer->renderer();
-    for (std::size_t i = 0; i < pixels; ++i)
-      mine[i] = {renderer.depths()[i], static_cast<std::uint32_t>(world.rank()),
-                 renderer.pixels()[i], {}};
-    drawn = renderer.counters();
-  }
-  MPI_Datatype fragment;
-  check(MPI_Type_contiguous(sizeof(Fragment), MPI_BYTE, &fragment), "fragment type");
-  MPI_Type_commit(&fragment);
-  MPI_Op nearest;
-  check(MPI_Op_create(&keep_nearest, 1, &nearest), "compositing operation");
-  std::vector<Fragment> together(world.rank() == 0 ? pixels : 0);
-  const int reduced = MPI_Reduce(mine.data(), together.data(), static_cast<int>(pixels), fragment,
-                                 nearest, 0, world.comm());
-  MPI_Op_free(&nearest);
-  MPI_Type_free(&fragment);
-  check(reduced, "compositing the picture");
+std::uint64_t PictureReduction::bytes(std::uint32_t width, std::uint32_t height) {
+  const std::uint64_t pixels = std::uint64_t{width} * height;
+  return pixels * (2 * sizeof(Fragment) + sizeof(float) + 1 + sizeof(std::uint32_t));
+}
 
-  unsigned long long sums[7] = {drawn.polygons,        drawn.polygons_clipped,
-                                drawn.triangles_culled, drawn.triangles_hidden,
-                                drawn.triangles_drawn,  drawn.fragments_covered,
-                                drawn.fragments_written};
-  unsigned long long total[7] = {};
-  check(MPI_Reduce(sums, total, 7, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, world.comm()),
-        "summing the picture's counters");
-  if (world.rank() != 0) return;
-  std::vector<float> depth(pixels);
-  std::vector<std::uint8_t> shade(pixels);
-  std::vector<std::uint32_t> tags(pixels);
-  for (std::size_t i = 0; i < pixels; ++i) {
-    depth[i] = together[i].depth;
-    shade[i] = together[i].shade;
-    tags[i] = together[i].tag;
+PictureReduction::PictureReduction(const MpiWorld& world, const PictureLayer* layer,
+                                   std::uint32_t width, std::uint32_t height)
+    : world_(world),
+      pixels_(std::size_t{width} * height),
+      mine_(pixels_, Fragment{std::numeric_limits<float>::infinity(), 0, 0, {}}),
+      together_(world.rank() == 0 ? pixels_ : 0) {
+  if (!layer) return;
+  const ZBufferRenderer& renderer = layer->renderer();
+  for (std::size_t i = 0; i < pixels_; ++i)
+    mine_[i] = {
+        renderer.depths()[i], static_cast<std::uint32_t>(world.rank()), renderer.pixels()[i], {}};
+  const RenderCounters& c = renderer.counters();
+  const unsigned long long counters[7] = {
+      c.polygons,        c.polygons_clipped,  c.triangles_culled, c.triangles_hidden,
+      c.triangles_drawn, c.fragments_covered, c.fragments_written};
+  for (int i = 0; i < 7; ++i) counters_[i] = counters[i];
+}
+
+int PictureReduction::reduce() {
+  MPI_Datatype fragment;
+  int code = MPI_Type_contiguous(sizeof(Fragment), MPI_BYTE, &fragment);
+  if (code == MPI_SUCCESS) code = MPI_Type_commit(&fragment);
+  MPI_Op nearest;
+  const int op = MPI_Op_create(&keep_nearest, 1, &nearest);
+  // Both reductions are made whatever came before, so that no rank waits for another alone.
+  const int pixels = MPI_Reduce(mine_.data(), together_.data(), static_cast<int>(pixels_),
+                                code == MPI_SUCCESS ? fragment : MPI_BYTE,
+                                op == MPI_SUCCESS ? nearest : MPI_MIN, 0, world_.comm());
+  const int counters =
+      MPI_Reduce(counters_, total_, 7, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, world_.comm());
+  if (op == MPI_SUCCESS) MPI_Op_free(&nearest);
+  if (code == MPI_SUCCESS) MPI_Type_free(&fragment);
+  for (const int result : {code, op, pixels, counters})
+    if (result != MPI_SUCCESS) return result;
+  return MPI_SUCCESS;
+}
+
+void PictureReduction::composite_into(SurfacePicture& picture, RenderCounters* counters) const {
+  std::vector<float> depth(pixels_);
+  std::vector<std::uint8_t> shade(pixels_);
+  std::vector<std::uint32_t> tags(pixels_);
+  for (std::size_t i = 0; i < pixels_; ++i) {
+    depth[i] = together_[i].depth;
+    shade[i] = together_[i].shade;
+    tags[i] = together_[i].tag;
   }
-  picture->composite(depth.data(), shade.data(), tags.data());
-  *counters = {total[0], total[1], total[2], total[3], total[4], total[5], total[6]};
+  picture.composite(depth.data(), shade.data(), tags.data());
+  *counters = {total_[0], total_[1], total_[2], total_[3], total_[4], total_[5], total_[6]};
 }
 
 }  // namespace mvox

@@ -33,8 +33,7 @@ void copy_into(MPI_File file, int fd, std::uint64_t from, std::uint64_t size, st
 
 }  // namespace
 
-PartOffsets part_offsets(const std::vector<PartShape>& shapes, int rank,
-                         std::uint64_t head_bytes) {
+PartOffsets part_offsets(const std::vector<PartShape>& shapes, int rank, std::uint64_t head_bytes) {
   PartOffsets at;
   at.vertex_at = head_bytes;
   std::uint64_t all_vertex_bytes = 0, faces_before = 0;
@@ -60,8 +59,8 @@ void write_mesh_together(MpiWorld& world, const std::string& path, const std::st
       throw Error(subject, "cannot open for the ranks to write: " + mpi_error_text(opened));
     if (world.rank() == 0) {
       MPI_Status status;
-      const int code = MPI_File_write_at(file, 0, head.data(), static_cast<int>(head.size()),
-                                         MPI_BYTE, &status);
+      const int code =
+          MPI_File_write_at(file, 0, head.data(), static_cast<int>(head.size()), MPI_BYTE, &status);
       if (code != MPI_SUCCESS) throw Error(subject, "write failed: " + mpi_error_text(code));
     }
     if (part_path.empty()) return;

@@ -18,6 +18,7 @@
 namespace mvox {
 
 class LiveWindow;
+class PictureLayer;
 
 struct PictureOptions {
   std::string image_path;  // the final picture (.png, .pgm, .tif...); empty: none
@@ -37,30 +38,6 @@ struct PictureOptions {
 // The name of the frame written after `slices_done` of `depth` slices: "frame_0010.png",
 // zero-padded to at least 4 digits and to as many as `depth` has, so that names sort in order.
 std::string frame_file_name(std::uint32_t slices_done, std::uint32_t depth);
-
-// A renderer of its own for one worker of a slab-parallel run (SurfacePicture::new_layer): the
-// picture's camera, lighting and placement, drawing the slabs the worker takes, each tagged
-// with its slab number, to be composited into the picture at the end.
-class PictureLayer {
- public:
-  PictureLayer(const Camera& camera, const Lighting& lighting, const glm::vec3& spacing,
-               const glm::vec3& origin, const VertexNormals* normals);
-  PictureLayer(const PictureLayer&) = delete;
-  PictureLayer& operator=(const PictureLayer&) = delete;
-
-  PolygonSink& sink() { return *sink_; }
-  // The polygons from here on are slab `slab`'s.
-  void start_slab(std::uint32_t slab) { renderer_.set_tag(slab); }
-  const ZBufferRenderer& renderer() const { return renderer_; }
-  // The memory a layer of width x height pixels takes: the renderer's workspace and the tags.
-  static std::uint64_t bytes(std::uint32_t width, std::uint32_t height);
-
- private:
-  std::vector<float> memory_;
-  std::vector<std::uint32_t> tags_;
-  ZBufferRenderer renderer_;
-  std::optional<RenderSink> sink_;
-};
 
 class SurfacePicture {
  public:

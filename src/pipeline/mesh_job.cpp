@@ -9,6 +9,7 @@
 #include "error.h"
 #include "message_line.h"
 #include "picture/normal_window.h"
+#include "picture/picture_layer.h"
 #include "pipeline/peak_memory.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/prefetching_source.h"
@@ -133,9 +134,10 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     plan.add(std::to_string(threads) +
                  " slab workers (workspace, slices, window, recorded output)",
              slab_pipeline_bytes(info, engine, slabs));
-    if (picture)
+    if (picture)  // and the picture's own slab numbers, once the layers are composited
       plan.add(std::to_string(threads) + " picture layers (z-buffer, slab of each pixel)",
-               threads * PictureLayer::bytes(job.picture.width, job.picture.height));
+               threads * PictureLayer::bytes(job.picture.width, job.picture.height) +
+                   std::uint64_t{job.picture.width} * job.picture.height * 4);
     plan.add("reader (slice and decoder buffers)", source.working_bytes());
   } else {
     plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));

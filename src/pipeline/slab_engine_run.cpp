@@ -7,6 +7,11 @@
 
 namespace mvox {
 
+Error slices_ended_early(const std::string& input_label, std::uint32_t z, std::uint32_t depth) {
+  return Error(input_label,
+               "ended after " + std::to_string(z) + " of its " + std::to_string(depth) + " slices");
+}
+
 SlabSpan SlabSpan::of(std::uint32_t first, std::uint32_t end, std::uint32_t depth, bool normals) {
   const std::uint32_t extra = normals ? 1 : 0;
   SlabSpan span;

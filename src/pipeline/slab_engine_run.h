@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "error.h"
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
 #include "mvox/slice_window.h"
@@ -25,6 +26,9 @@ struct SlabSpan {
   // The span of slices [first, end) of a volume `depth` slices deep (first < end <= depth).
   static SlabSpan of(std::uint32_t first, std::uint32_t end, std::uint32_t depth, bool normals);
 };
+
+// What one thread reading the volume in order says when it runs out of slices at slice z.
+Error slices_ended_early(const std::string& input_label, std::uint32_t z, std::uint32_t depth);
 
 // Where a slab's engine gets its slices from: a reader of its own, or a thread that reads for
 // every slab.

@@ -15,6 +15,7 @@
 #include "mvox/slice_window.h"
 #include "mvox/workspace_buffer.h"
 #include "picture/normal_window.h"
+#include "picture/picture_layer.h"
 #include "picture/surface_picture.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/slab_engine_run.h"
@@ -110,12 +111,6 @@ void copy_slice(const SliceView& from, std::vector<unsigned char>& to) {
     std::memcpy(to.data() + y * row_bytes, source + y * from.row_stride_bytes, row_bytes);
 }
 
-// What one thread reading the volume in order says when it runs out of slices at slice z.
-Error ended_early(const std::string& input_label, std::uint32_t z, std::uint32_t depth) {
-  return Error(input_label, "ended after " + std::to_string(z) + " of its " +
-                                std::to_string(depth) + " slices");
-}
-
 // Reads every slice once and gives it to each slab that needs it, in slab order.
 void read_slices(SliceSource& source, const SlabCuts& cuts,
                  std::vector<std::unique_ptr<Worker>>& workers, const std::string& input_label,
@@ -126,7 +121,7 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
     const auto start = Clock::now();
     const bool more = source.next_slice(&view);
     *read_seconds += seconds_since(start);
-    if (!more) throw ended_early(input_label, z, cuts.depth);
+    if (!more) throw slices_ended_early(input_label, z, cuts.depth);
     const std::uint32_t own = z / cuts.slab_slices;
     for (std::uint32_t slab = own == 0 ? 0 : own - 1; slab <= own + 1 && slab < cuts.count();
          ++slab) {
@@ -167,7 +162,8 @@ class OwnReaderSlices final : public SlabSlices {
     worker_.read_seconds += seconds_since(read_start);
     if (!more) {
       // The file changed since it was opened: as one thread reading it would say.
-      failure_.fail_reading(z, std::make_exception_ptr(ended_early(input_label_, z, depth_)));
+      failure_.fail_reading(z,
+                            std::make_exception_ptr(slices_ended_early(input_label_, z, depth_)));
       return false;
     }
     return true;
@@ -275,7 +271,8 @@ std::uint32_t slab_count(const VolumeInfo& volume, std::uint32_t requested) {
 
 std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
                                   const SlabOptions& options) {
-  const std::uint64_t slice = std::uint64_t{volume.width} * volume.height * sample_bytes(volume.type);
+  const std::uint64_t slice =
+      std::uint64_t{volume.width} * volume.height * sample_bytes(volume.type);
   const std::uint64_t per_worker =
       engine_workspace_bytes(volume.width, volume.height, engine) +
       (options.reader_bytes > 0

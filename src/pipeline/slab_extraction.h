@@ -83,11 +83,12 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
 // Extracts every slice of `source` into `mesh` (may be null when options.picture is set) and
 // options.picture as run_pipeline() does with one engine, with the same result (extraction
 // counters summed over the slabs; the picture's counters are the layers', summed), with at
-// most one worker per slab. Phase times
-// overlap here: read_s is the time inside the sources (the reading thread's, or the workers'
-// summed), write_s the caller's time inside the writer, extract_s the rest of the wall time. Throws mvox::Error naming `input_label` for an engine error, a source
-// that ends before its depth, or whatever the source throws; the writer's own error is left in
-// the writer (status sink_refused), as run_pipeline() leaves it.
+// most one worker per slab. Phase times overlap here: read_s is the time inside the sources
+// (the reading thread's, or the workers' summed), write_s the caller's time inside the writer,
+// render_s compositing the picture's layers, extract_s the rest of the wall time. Throws
+// mvox::Error naming `input_label` for an engine error, a source that ends before its depth, or
+// whatever the source throws; the writer's own error is left in the writer (status
+// sink_refused), as run_pipeline() leaves it.
 PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
                                  const EngineOptions& engine, MeshWriter* mesh,
                                  const SlabOptions& options, const std::string& input_label,

@@ -21,8 +21,8 @@ constexpr std::uint64_t k2to32 = std::uint64_t{1} << 32;
 TEST(WholeVertexIndex, GivesBackEveryIndexAmongTheLast2To32Taken) {
   for (const std::uint64_t taken : {std::uint64_t{1}, std::uint64_t{5}, k2to32 - 1, k2to32,
                                     k2to32 + 7, (std::uint64_t{1} << 40) + 3}) {
-    for (const std::uint64_t back : {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{1000},
-                                     k2to32 - 1}) {
+    for (const std::uint64_t back :
+         {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{1000}, k2to32 - 1}) {
       if (back >= taken) continue;
       const std::uint64_t index = taken - 1 - back;
       EXPECT_EQ(whole_vertex_index(static_cast<std::uint32_t>(index), taken), index)
@@ -54,8 +54,8 @@ class WholeIndexCapture : public PolygonSink {
   std::uint64_t taken_;
 };
 
-std::vector<std::uint64_t> whole_indices(const std::vector<std::uint8_t>& samples,
-                                         std::uint32_t w, std::uint32_t h, std::uint32_t d,
+std::vector<std::uint64_t> whole_indices(const std::vector<std::uint8_t>& samples, std::uint32_t w,
+                                         std::uint32_t h, std::uint32_t d,
                                          const EngineOptions& options, std::uint64_t first,
                                          EngineCounters* counters) {
   WorkspaceBuffer workspace(engine_workspace_bytes(w, h, options));
@@ -88,11 +88,13 @@ TEST(WholeVertexIndex, TheEngineNumbersOnPast2To32OnEveryPath) {
   cubes.method = SurfaceMethod::cubes;
   for (const EngineOptions& options : {fast, literal, cubes}) {
     EngineCounters from_zero, from_high;
-    const std::vector<std::uint64_t> reference = whole_indices(noise, w, h, d, options, 0, &from_zero);
+    const std::vector<std::uint64_t> reference =
+        whole_indices(noise, w, h, d, options, 0, &from_zero);
     ASSERT_GT(from_zero.vertices, 20000u);
     // Starting 10,000 below 2^32: the run crosses it, and indices wrap in the polygons.
     const std::uint64_t first = k2to32 - 10000;
-    const std::vector<std::uint64_t> moved = whole_indices(noise, w, h, d, options, first, &from_high);
+    const std::vector<std::uint64_t> moved =
+        whole_indices(noise, w, h, d, options, first, &from_high);
     EXPECT_EQ(from_high.vertices, first + from_zero.vertices);
     ASSERT_EQ(moved.size(), reference.size());
     std::size_t past = 0;

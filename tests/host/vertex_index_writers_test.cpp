@@ -82,7 +82,8 @@ TEST(VertexIndexWriters, ObjWritesWholeIndicesPast2To32) {
   auto high = open_mesh_writer(dir / "high.obj", MeshFormat::obj, part_from(first));
   ASSERT_EQ(extract(*high, first), Status::ok);
   high->finish();
-  const std::vector<std::uint64_t> reference = face_indices(test::read_bytes(dir.path() / "zero.obj"));
+  const std::vector<std::uint64_t> reference =
+      face_indices(test::read_bytes(dir.path() / "zero.obj"));
   const std::vector<std::uint64_t> moved = face_indices(test::read_bytes(dir.path() / "high.obj"));
   ASSERT_EQ(moved.size(), reference.size());
   ASSERT_GT(reference.size(), 50000u);

@@ -13,7 +13,8 @@ enum class [[nodiscard]] Status : std::uint8_t{
     slice_size_mismatch,    // a slice whose width or height differs from init()
     already_finished,       // push_slice()/finish() after finish()
     sink_refused,           // the polygon sink returned an error; the engine stopped
-    vertex_index_overflow,  // no longer returned (indices go on past 2^32, mesh.h); keeps its number
+    vertex_index_overflow,  // no longer returned (indices go on past 2^32, mesh.h); keeps its
+                            // number
 };
 
 // A short English description, for messages ("workspace too small").

@@ -87,7 +87,8 @@ void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,
     options_.normals->compute(vertices, vertex_count, normal_batch_.data());
     normals = normal_batch_.data();
   }
-  const std::size_t outside = placement_.place(vertices, normals, vertex_count, vertex_batch_.data());
+  const std::size_t outside =
+      placement_.place(vertices, normals, vertex_count, vertex_batch_.data());
   if (outside < vertex_count) {
     throw Error(subject(), "vertex " + std::to_string(vertex_count_ + outside) +
                                " lies outside the float range after spacing and origin");
@@ -114,9 +115,10 @@ void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_cou
     for (int k = 0; k < kMaxPolygonVertices; ++k)
       if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
   }
-  // Below 2^32 vertices an index is its whole self; beyond, every index is checked whole.
+  // Below 2^32 vertices an index is its whole self. Beyond, whole_vertex_index() puts every
+  // index among the last 2^32 taken: none can be out of range.
   const bool whole = vertex_count_ <= kMaxVerticesBack;
-  if (sizes_ok && (polygon_count == 0 || (whole && highest < vertex_count_))) return;
+  if (sizes_ok && (polygon_count == 0 || !whole || highest < vertex_count_)) return;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];
     const int count = polygon.vertex_count;

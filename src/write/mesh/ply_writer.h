@@ -43,10 +43,11 @@ class PlyWriter final : public MeshWriter {
   static std::string head(const PlyWriterOptions& options, std::uint64_t vertex_count,
                           std::uint64_t face_count);
   std::uint64_t part_face_bytes() const override { return part_face_bytes_; }
-  VertexLimit vertex_limit() const override {
-    return {std::uint64_t{1} << 32,
-            "PLY's 32-bit index lists cannot address; write OBJ, whose indices have no limit"};
-  }
+  // The most vertices 32-bit index lists reach, and why no more.
+  static constexpr std::uint64_t kMaxVertices = std::uint64_t{1} << 32;
+  static constexpr const char* kVertexLimitReason =
+      "PLY's 32-bit index lists cannot address; write OBJ, whose indices have no limit";
+  VertexLimit vertex_limit() const override { return {kMaxVertices, kVertexLimitReason}; }
 
   // Bytes of the header area for these options (binary and ASCII alike), which is also the
   // offset of the first vertex in a file written to a regular target.
