@@ -43,33 +43,45 @@ for name, result in zip(names, results):
 EOF
 }
 
+# The median of the numbers on standard input, one a line.
+median() { sort -n | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
+
 echo "## In memory"
 echo
 "$build/bench/mvox_bench_threads" "$scratch/volume.raw" "256x256x$depth:u8" 100 "$max_threads" "$runs"
 echo
 
-# end_to_end NAME INPUT_ARGUMENTS: hyperfine on `mvox extract INPUT_ARGUMENTS -o PLY` with one
-# thread, one engine and a reading thread (one slab), and 2..MAX_THREADS slab workers; checks
-# that every mesh is the same file.
-end_to_end() {
-  local name=$1 input=$2 threads
-  local commands=("$mvox extract $input -q -o $scratch/$name-1.ply --threads 1"
-                  "$mvox extract $input -q -o $scratch/$name-ahead.ply --threads 2 --slab-slices $depth")
-  local names=("--threads 1 (one thread)" "one engine and a reading thread")
-  for threads in $(seq 2 "$max_threads"); do
-    commands+=("$mvox extract $input -q -o $scratch/$name-$threads.ply --threads $threads")
-    names+=("--threads $threads")
-  done
+# compare_runs NAME: hyperfine over the arrays `commands` and `names` (a Markdown table of
+# medians, ratios to the first), then checks that the files of the array `outputs` are all the
+# first one, byte for byte.
+compare_runs() {
+  local name=$1 output
   hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/$name.json" \
     "${commands[@]}" > /dev/null
   table "$scratch/$name.json" "${names[@]}"
-  for threads in ahead $(seq 2 "$max_threads"); do
-    cmp -s "$scratch/$name-1.ply" "$scratch/$name-$threads.ply" ||
-      { echo "$0: $name: run '$threads' wrote another mesh than one thread" >&2; exit 1; }
+  for output in "${outputs[@]:1}"; do
+    cmp -s "${outputs[0]}" "$output" ||
+      { echo "$0: $name: $output is not ${outputs[0]}" >&2; exit 1; }
   done
   echo
-  echo "Every mesh above is the same file, byte for byte."
+  echo "Every output above is the same file, byte for byte."
   echo
+}
+
+# end_to_end NAME INPUT_ARGUMENTS: `mvox extract INPUT_ARGUMENTS -o PLY` with one thread, one
+# engine and a reading thread (one slab), and 2..MAX_THREADS slab workers.
+end_to_end() {
+  local name=$1 input=$2 threads
+  commands=("$mvox extract $input -q -o $scratch/$name-1.ply --threads 1"
+            "$mvox extract $input -q -o $scratch/$name-ahead.ply --threads 2 --slab-slices $depth")
+  names=("--threads 1 (one thread)" "one engine and a reading thread")
+  outputs=("$scratch/$name-1.ply" "$scratch/$name-ahead.ply")
+  for threads in $(seq 2 "$max_threads"); do
+    commands+=("$mvox extract $input -q -o $scratch/$name-$threads.ply --threads $threads")
+    names+=("--threads $threads")
+    outputs+=("$scratch/$name-$threads.ply")
+  done
+  compare_runs "$name"
 }
 
 echo "## End to end: raw file to binary PLY"
@@ -83,22 +95,15 @@ end_to_end png "$scratch/stack -t 128"
 
 echo "## End to end: raw file to a picture (--image), each worker drawing a layer of its own"
 echo
-picture_commands=()
-picture_names=()
+commands=()
+names=()
+outputs=()
 for threads in $(seq 1 "$max_threads"); do
-  picture_commands+=("$mvox extract $scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q --image $scratch/picture-$threads.png --threads $threads")
-  picture_names+=("--threads $threads")
+  commands+=("$mvox extract $scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q --image $scratch/picture-$threads.png --threads $threads")
+  names+=("--threads $threads")
+  outputs+=("$scratch/picture-$threads.png")
 done
-hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/picture.json" \
-  "${picture_commands[@]}" > /dev/null
-table "$scratch/picture.json" "${picture_names[@]}"
-for threads in $(seq 2 "$max_threads"); do
-  cmp -s "$scratch/picture-1.png" "$scratch/picture-$threads.png" ||
-    { echo "$0: --threads $threads drew another picture than one thread" >&2; exit 1; }
-done
-echo
-echo "Every picture above is the same file, byte for byte."
-echo
+compare_runs picture
 
 mpi=$build/src/mvox-mpi
 if [ -x "$mpi" ] && command -v mpirun > /dev/null; then
@@ -107,22 +112,17 @@ if [ -x "$mpi" ] && command -v mpirun > /dev/null; then
   echo
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   input="$scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q"
-  mpi_commands=("$mvox extract $input -o $scratch/alone.ply --threads 1")
-  mpi_names=("mvox extract --threads 1")
+  commands=("$mvox extract $input -o $scratch/alone.ply --threads 1")
+  names=("mvox extract --threads 1")
+  outputs=("$scratch/alone.ply")
   for ranks in $(seq 1 "$max_ranks"); do
-    mpi_commands+=("mpirun --quiet --oversubscribe -np $ranks $mpi extract $input -o $scratch/ranks-$ranks.ply")
-    mpi_names+=("mpirun -np $ranks mvox-mpi")
+    commands+=("mpirun --quiet --oversubscribe -np $ranks $mpi extract $input -o $scratch/ranks-$ranks.ply")
+    names+=("mpirun -np $ranks mvox-mpi")
+    outputs+=("$scratch/ranks-$ranks.ply")
   done
-  hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/mpi.json" \
-    "${mpi_commands[@]}" > /dev/null
-  table "$scratch/mpi.json" "${mpi_names[@]}"
-  for ranks in $(seq 1 "$max_ranks"); do
-    cmp -s "$scratch/alone.ply" "$scratch/ranks-$ranks.ply" ||
-      { echo "$0: $ranks ranks wrote another mesh than one process" >&2; exit 1; }
-  done
-  echo
-  echo "Every mesh above is the same file, byte for byte. Inside the job (the --stats total:"
-  echo "without starting the processes and MPI), medians of $runs:"
+  compare_runs mpi
+  echo "Inside the job (the --stats total: without starting the processes and MPI), medians of"
+  echo "$runs:"
   echo
   echo "| run | job time |"
   echo "|---|---|"
@@ -136,7 +136,6 @@ if [ -x "$mpi" ] && command -v mpirun > /dev/null; then
     done > "$scratch/job_times"
     echo "| $name | $(median < "$scratch/job_times" | awk '{printf "%.0f ms", $1 * 1000}') |"
   }
-  median() { sort -n | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
   # shellcheck disable=SC2086
   row "mvox extract --threads 1" "$mvox" extract $input -o "$scratch/alone.ply" --threads 1
   for ranks in $(seq 1 "$max_ranks"); do
@@ -150,7 +149,6 @@ echo "## Peak memory, flat in depth"
 echo
 echo "| run | 256x256x$depth | 256x256x$deep |"
 echo "|---|---|---|"
-median() { sort -n | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
 for threads in $(seq 1 "$max_threads"); do
   row="| --threads $threads"
   for volume in "volume:$depth" "deep:$deep"; do

@@ -11,12 +11,15 @@
 
 #include "support/command_runner.h"
 #include "support/file_io.h"
+#include "support/slab_run_checks.h"
 
 namespace mvox {
 namespace {
 
+using test::counters_of;
 using test::run_command;
 using test::run_mvox;
+using test::write_noise;
 
 // mpirun as a user runs it, quiet (its own banners off), as root too (the CI runs as root).
 test::CommandResult run_ranks(int ranks, const std::string& arguments,
@@ -25,24 +28,6 @@ test::CommandResult run_ranks(int ranks, const std::string& arguments,
                      "' --quiet --oversubscribe -np " +
                          std::to_string(ranks) + " '" MVOX_MPI_BINARY "' " + arguments,
                      directory);
-}
-
-void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed) {
-  std::vector<unsigned char> bytes(voxels);
-  std::uint64_t state = seed;
-  for (unsigned char& byte : bytes) {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    byte = static_cast<unsigned char>(state >> 56);
-  }
-  test::write_bytes(path, bytes);
-}
-
-// The counters of a --stats report: from "inner_voxels" to the times.
-std::string counters_of(const std::string& report) {
-  const std::size_t from = report.find("\"inner_voxels\"");
-  const std::size_t to = report.find("\"time_seconds\"");
-  EXPECT_LT(from, to) << report;
-  return from < to && to != std::string::npos ? report.substr(from, to - from) : "";
 }
 
 // Writes the mesh with `mvox extract --threads 1` and with 1 to 4 ranks, and compares.
@@ -72,22 +57,8 @@ TEST(MpiRanks, EveryFormatAndOptionIsTheSameBytesAsOneProcess) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 41 * 23 * 37, 7);
   const std::string input = "noise.raw --raw 41x23x37:u8 -t 128";
-  struct Case {
-    const char* extension;
-    const char* options;
-  };
-  const Case cases[] = {
-      {"ply", ""},
-      {"ply", "--ascii"},
-      {"obj", ""},
-      {"stl", ""},
-      {"ply", "--triangulate"},
-      {"ply", "--normals"},
-      {"obj", "--normals --spacing 0.5,1,2 --origin -3,4,5"},
-      {"ply", "--method cubes --normals --ascii"},
-      {"ply", "--surface paper-table1 --engine literal"},
-  };
-  for (const Case& c : cases) expect_same_for_any_ranks(dir, input, c.extension, c.options);
+  for (const test::MeshCase& c : test::every_format_and_option())
+    expect_same_for_any_ranks(dir, input, c.extension, c.options);
   const std::vector<std::string> expected = {"alone.json", "alone.ply", "alone.obj",
                                              "alone.stl",  "noise.raw", "ranks.json",
                                              "ranks.obj",  "ranks.ply", "ranks.stl"};

@@ -14,55 +14,20 @@
 
 #include "support/command_runner.h"
 #include "support/file_io.h"
+#include "support/slab_run_checks.h"
 
 namespace mvox {
 namespace {
 
+using test::counters_of;
 using test::run_mvox;
-
-// 8-bit noise, x fastest: every slab boundary cuts the surface nearly everywhere.
-void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed) {
-  std::vector<unsigned char> bytes(voxels);
-  std::uint64_t state = seed;
-  for (unsigned char& byte : bytes) {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    byte = static_cast<unsigned char>(state >> 56);
-  }
-  test::write_bytes(path, bytes);
-}
-
-// The counters of a --stats report, from "inner_voxels" to the times (which, with the memory
-// figures after them, differ from run to run).
-std::string counters_of(const std::string& report) {
-  const std::size_t from = report.find("\"inner_voxels\"");
-  const std::size_t to = report.find("\"time_seconds\"");
-  EXPECT_NE(from, std::string::npos) << report;
-  EXPECT_NE(to, std::string::npos) << report;
-  return from < to && to != std::string::npos ? report.substr(from, to - from) : "";
-}
-
-struct Case {
-  const char* extension;
-  const char* options;
-};
+using test::write_noise;
 
 TEST(SlabThreads, EveryFormatAndOptionIsTheSameBytesForAnyNumberOfThreads) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 41 * 23 * 37, 11);
   const std::string input = "noise.raw --raw 41x23x37:u8 -t 128 -q --slab-slices 4";
-  const Case cases[] = {
-      {"ply", ""},
-      {"ply", "--ascii"},
-      {"obj", ""},
-      {"stl", ""},
-      {"ply", "--triangulate"},
-      {"ply", "--normals"},
-      {"obj", "--normals --spacing 0.5,1,2 --origin -3,4,5"},
-      {"ply", "--method cubes --normals"},
-      {"ply", "--engine literal"},
-      {"ply", "--surface paper-table1"},
-  };
-  for (const Case& c : cases) {
+  for (const test::MeshCase& c : test::every_format_and_option()) {
     SCOPED_TRACE(std::string(c.extension) + " " + c.options);
     std::string reference, reference_counters;
     for (const int threads : {1, 2, 3, 8}) {

@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <random>
 #include <vector>
 
+#include "mesh_capture.h"
 #include "mvox/engine.h"
 #include "mvox/mesh.h"
 #include "mvox/workspace_buffer.h"
@@ -54,47 +54,35 @@ class WholeIndexCapture : public PolygonSink {
   std::uint64_t taken_;
 };
 
-std::vector<std::uint64_t> whole_indices(const std::vector<std::uint8_t>& samples, std::uint32_t w,
-                                         std::uint32_t h, std::uint32_t d,
+std::vector<std::uint64_t> whole_indices(const test::BinaryVolume& volume,
                                          const EngineOptions& options, std::uint64_t first,
                                          EngineCounters* counters) {
-  WorkspaceBuffer workspace(engine_workspace_bytes(w, h, options));
+  WorkspaceBuffer workspace(engine_workspace_bytes(volume.width, volume.height, options));
   WholeIndexCapture capture(first);
   Engine engine;
-  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), w, h, 128, options, &capture),
+  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), volume.width, volume.height, 128,
+                        options, &capture),
             Status::ok);
   detail::number_vertices_from(engine, first);
-  for (std::uint32_t z = 0; z < d; ++z) {
-    SliceView slice;
-    slice.samples = samples.data() + std::size_t{z} * w * h;
-    slice.width = w;
-    slice.height = h;
-    slice.row_stride_bytes = w;
-    slice.type = SampleType::u8;
-    EXPECT_EQ(engine.push_slice(slice), Status::ok);
-  }
+  for (std::uint32_t z = 0; z < volume.depth; ++z)
+    EXPECT_EQ(engine.push_slice(test::slice_of(volume, z)), Status::ok);
   EXPECT_EQ(engine.finish(), Status::ok);
   *counters = engine.counters();
   return capture.indices;
 }
 
 TEST(WholeVertexIndex, TheEngineNumbersOnPast2To32OnEveryPath) {
-  const std::uint32_t w = 37, h = 29, d = 23;
-  std::vector<std::uint8_t> noise(std::size_t{w} * h * d);
-  std::mt19937 random(3);
-  for (std::uint8_t& sample : noise) sample = static_cast<std::uint8_t>(random());
+  const test::BinaryVolume noise = test::noise_volume(37, 29, 23, 3);
   EngineOptions fast, literal, cubes;
   literal.kind = EngineKind::literal;
   cubes.method = SurfaceMethod::cubes;
   for (const EngineOptions& options : {fast, literal, cubes}) {
     EngineCounters from_zero, from_high;
-    const std::vector<std::uint64_t> reference =
-        whole_indices(noise, w, h, d, options, 0, &from_zero);
+    const std::vector<std::uint64_t> reference = whole_indices(noise, options, 0, &from_zero);
     ASSERT_GT(from_zero.vertices, 20000u);
     // Starting 10,000 below 2^32: the run crosses it, and indices wrap in the polygons.
     const std::uint64_t first = k2to32 - 10000;
-    const std::vector<std::uint64_t> moved =
-        whole_indices(noise, w, h, d, options, first, &from_high);
+    const std::vector<std::uint64_t> moved = whole_indices(noise, options, first, &from_high);
     EXPECT_EQ(from_high.vertices, first + from_zero.vertices);
     ASSERT_EQ(moved.size(), reference.size());
     std::size_t past = 0;

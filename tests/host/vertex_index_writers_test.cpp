@@ -6,13 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "command_runner.h"
 #include "file_io.h"
+#include "mesh_capture.h"
 #include "mvox/engine.h"
 #include "mvox/workspace_buffer.h"
 #include "write/mesh/mesh_arrays.h"
@@ -24,16 +24,9 @@ namespace {
 constexpr std::uint32_t kW = 37, kH = 29, kD = 23;
 constexpr std::uint64_t k2to31 = std::uint64_t{1} << 31, k2to32 = std::uint64_t{1} << 32;
 
-std::vector<std::uint8_t> noise() {
-  std::vector<std::uint8_t> samples(std::size_t{kW} * kH * kD);
-  std::mt19937 random(11);
-  for (std::uint8_t& sample : samples) sample = static_cast<std::uint8_t>(random());
-  return samples;
-}
-
 // Runs the engine over the noise into `writer`, numbering from `first`. The engine's status.
 Status extract(MeshWriter& writer, std::uint64_t first) {
-  static const std::vector<std::uint8_t> samples = noise();
+  static const test::BinaryVolume noise = test::noise_volume(kW, kH, kD, 11);
   EngineOptions options;
   options.polygon_geometry = writer.needs_polygon_geometry();
   WorkspaceBuffer workspace(engine_workspace_bytes(kW, kH, options));
@@ -41,15 +34,8 @@ Status extract(MeshWriter& writer, std::uint64_t first) {
   Status status = engine.init(workspace.data(), workspace.bytes(), kW, kH, 128, options, &writer);
   if (status != Status::ok) return status;
   detail::number_vertices_from(engine, first);
-  for (std::uint32_t z = 0; z < kD && status == Status::ok; ++z) {
-    SliceView slice;
-    slice.samples = samples.data() + std::size_t{z} * kW * kH;
-    slice.width = kW;
-    slice.height = kH;
-    slice.row_stride_bytes = kW;
-    slice.type = SampleType::u8;
-    status = engine.push_slice(slice);
-  }
+  for (std::uint32_t z = 0; z < kD && status == Status::ok; ++z)
+    status = engine.push_slice(test::slice_of(noise, z));
   return status == Status::ok ? engine.finish() : status;
 }
 

@@ -1,0 +1,45 @@
+#include "slab_run_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "file_io.h"
+
+namespace mvox::test {
+
+const std::vector<MeshCase>& every_format_and_option() {
+  static const std::vector<MeshCase> cases = {
+      {"ply", ""},
+      {"ply", "--ascii"},
+      {"obj", ""},
+      {"stl", ""},
+      {"ply", "--triangulate"},
+      {"ply", "--normals"},
+      {"obj", "--normals --spacing 0.5,1,2 --origin -3,4,5"},
+      {"ply", "--method cubes --normals --ascii"},
+      {"ply", "--engine literal"},
+      {"ply", "--surface paper-table1"},
+  };
+  return cases;
+}
+
+void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed) {
+  std::vector<unsigned char> bytes(voxels);
+  std::uint64_t state = seed;
+  for (unsigned char& byte : bytes) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    byte = static_cast<unsigned char>(state >> 56);
+  }
+  write_bytes(path, bytes);
+}
+
+std::string counters_of(const std::string& report) {
+  const std::size_t from = report.find("\"inner_voxels\"");
+  const std::size_t to = report.find("\"time_seconds\"");
+  EXPECT_NE(from, std::string::npos) << report;
+  EXPECT_NE(to, std::string::npos) << report;
+  return from < to && to != std::string::npos ? report.substr(from, to - from) : "";
+}
+
+}  // namespace mvox::test
