@@ -1,6 +1,5 @@
 #include "mpi/distributed_mesh_job.h"
 
-#include <algorithm>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -25,28 +24,6 @@
 
 namespace mvox {
 namespace {
-
-// Slices from the rank's own reader; a reading error is thrown, and reported by the step.
-class ReaderSlices final : public SlabSlices {
- public:
-  ReaderSlices(SliceSource& reader, const std::string& input_label, std::uint32_t depth)
-      : reader_(reader), input_label_(input_label), depth_(depth) {}
-
-  bool next(std::uint32_t z, SliceView* view) override {
-    const auto start = Clock::now();
-    const bool more = reader_.next_slice(view);
-    read_seconds += seconds_since(start);
-    if (!more) throw slices_ended_early(input_label_, z, depth_);
-    return true;
-  }
-
-  double read_seconds = 0;
-
- private:
-  SliceSource& reader_;
-  const std::string& input_label_;
-  std::uint32_t depth_;
-};
 
 // One chunk, reused: the recorder hands it on when full, and it is replayed into the part's
 // writer at once (or, counting, only its summary is kept).
@@ -234,7 +211,8 @@ SlabSummary RankRun::run_slab(const EngineOptions& engine, const VertexPlacement
   // Without a window, no slice beyond the slab and the one before it.
   const SlabSpan span = window ? span_ : SlabSpan::of(span_.first, span_.end, info_.depth, false);
   const std::unique_ptr<SliceSource> reader = ranges_->open_range(span.read_from, span.read_to);
-  ReaderSlices slices(*reader, job_.input_label, info_.depth);
+  // A reading error is thrown, and reported by the step.
+  OwnReaderSlices slices(*reader, job_.input_label, info_.depth);
   WorkspaceBuffer workspace(engine_workspace_bytes(info_.width, info_.height, engine));
   if (window && !normal_window_)
     normal_window_.emplace(info_, job_.mesh.transform.spacing, job_.input_label);
@@ -250,7 +228,7 @@ SlabSummary RankRun::run_slab(const EngineOptions& engine, const VertexPlacement
                                  workspace.bytes(), recorder, draw ? &layer_->sink() : nullptr,
                                  window ? &normal_window_->window() : nullptr, slices,
                                  chunk.cancellation(), job_.input_label);
-  read_seconds_ += slices.read_seconds;
+  read_seconds_ += slices.read_seconds();
   if (!done) throw Error(job_.input_label, "internal error: a rank's slab stopped early");
   return chunk.summary;
 }
@@ -279,9 +257,8 @@ void RankRun::check_format_limits() const {
     throw Error(job_.output, error.problem());
   }
   const bool ply = job_.format == MeshFormat::ply || job_.format == MeshFormat::ply_ascii;
-  if (ply && c.vertices > PlyWriter::kMaxVertices)
-    throw Error(job_.output, "more than " + std::to_string(PlyWriter::kMaxVertices) +
-                                 " vertices, which " + PlyWriter::kVertexLimitReason);
+  if (ply && c.vertices > PlyWriter::kVertexLimit.count)
+    throw Error(job_.output, PlyWriter::kVertexLimit.problem());
 }
 
 void RankRun::join_summaries(const SlabSummary& mine) {

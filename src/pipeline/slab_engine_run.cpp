@@ -1,9 +1,11 @@
 #include "pipeline/slab_engine_run.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "error.h"
 #include "mvox/fan_out_sink.h"
+#include "pipeline/stopwatch.h"
 
 namespace mvox {
 
@@ -20,6 +22,31 @@ SlabSpan SlabSpan::of(std::uint32_t first, std::uint32_t end, std::uint32_t dept
   span.read_from = first == 0 ? 0 : first - std::min(first, 1 + extra);
   span.read_to = std::min(depth, end + extra);
   return span;
+}
+
+OwnReaderSlices::OwnReaderSlices(SliceSource& reader, const std::string& input_label,
+                                 std::uint32_t depth, const Cancellation* cancellation,
+                                 Failed failed)
+    : reader_(reader),
+      input_label_(input_label),
+      depth_(depth),
+      cancellation_(cancellation),
+      failed_(std::move(failed)) {}
+
+bool OwnReaderSlices::next(std::uint32_t z, SliceView* view) {
+  if (cancellation_ && cancellation_->cancelled()) return false;
+  std::exception_ptr failure;
+  const auto start = Clock::now();
+  try {
+    if (!reader_.next_slice(view)) throw slices_ended_early(input_label_, z, depth_);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  read_seconds_ += seconds_since(start);
+  if (!failure) return true;
+  if (!failed_) std::rethrow_exception(failure);
+  failed_(z, failure);
+  return false;
 }
 
 bool extract_slab(const SlabSpan& span, const VolumeInfo& info, double threshold,

@@ -3,6 +3,8 @@
 // slab-parallel pipeline (slab_extraction.h) does for each slab it takes, and what each process
 // of a distributed run (mvox-mpi) does for its one slab.
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <string>
 
 #include "error.h"
@@ -43,6 +45,29 @@ class SlabSlices {
 
  protected:
   ~SlabSlices() = default;
+};
+
+// A slab's slices from a reader of its own (RangeReadable::open_range), timed. A reading
+// failure, the reader's exception or its running out (the file changed since it was opened),
+// goes to `failed` with its slice number and stops the run; with `failed` empty it is thrown.
+// A set `cancellation` (may be null) stops the run before the next read.
+class OwnReaderSlices final : public SlabSlices {
+ public:
+  using Failed = std::function<void(std::uint32_t z, std::exception_ptr failure)>;
+  OwnReaderSlices(SliceSource& reader, const std::string& input_label, std::uint32_t depth,
+                  const Cancellation* cancellation = nullptr, Failed failed = {});
+
+  bool next(std::uint32_t z, SliceView* view) override;
+  // Seconds spent inside the reader.
+  double read_seconds() const { return read_seconds_; }
+
+ private:
+  SliceSource& reader_;
+  const std::string& input_label_;
+  std::uint32_t depth_;
+  const Cancellation* cancellation_;
+  Failed failed_;
+  double read_seconds_ = 0;
 };
 
 // Runs an engine over `span` into `recorder`: begin_slab() on the slice before it (unless it is

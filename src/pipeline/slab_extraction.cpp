@@ -140,43 +140,6 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
                                  " its header gives");
 }
 
-// A worker's slab slices from a reader of its own: a reading failure is reported with its
-// slice number, so that the run can report the first bad slice of the volume.
-class OwnReaderSlices final : public SlabSlices {
- public:
-  OwnReaderSlices(SliceSource& reader, Worker& worker, SlabRunFailure& failure,
-                  const std::string& input_label, std::uint32_t depth)
-      : reader_(reader), worker_(worker), failure_(failure), input_label_(input_label),
-        depth_(depth) {}
-
-  bool next(std::uint32_t z, SliceView* view) override {
-    if (failure_.cancellation().cancelled()) return false;
-    bool more = false;
-    const auto read_start = Clock::now();
-    try {
-      more = reader_.next_slice(view);
-    } catch (...) {
-      failure_.fail_reading(z, std::current_exception());
-      return false;
-    }
-    worker_.read_seconds += seconds_since(read_start);
-    if (!more) {
-      // The file changed since it was opened: as one thread reading it would say.
-      failure_.fail_reading(z,
-                            std::make_exception_ptr(slices_ended_early(input_label_, z, depth_)));
-      return false;
-    }
-    return true;
-  }
-
- private:
-  SliceSource& reader_;
-  Worker& worker_;
-  SlabRunFailure& failure_;
-  const std::string& input_label_;
-  std::uint32_t depth_;
-};
-
 // A worker's slab slices as the reading thread hands them out.
 class HandedOutSlices final : public SlabSlices {
  public:
@@ -217,25 +180,31 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
   for (std::uint32_t slab = index; slab < cuts.count(); slab += threads) {
     const SlabSpan span = cuts.span(slab);
     if (worker.layer) worker.layer->start_slab(slab);
-    bool went_on = false;
+    std::unique_ptr<SliceSource> reader;  // the slab's own, when the input allows
+    std::optional<OwnReaderSlices> own;
+    std::optional<HandedOutSlices> handed;
+    SlabSlices* slices = nullptr;
     if (ranges) {
-      std::unique_ptr<SliceSource> reader;  // the slab's own
       try {
         reader = ranges->open_range(span.read_from, span.read_to);
       } catch (...) {
         failure.fail_reading(span.read_from, std::current_exception());
         return;
       }
-      OwnReaderSlices slices(*reader, worker, failure, input_label, cuts.depth);
-      went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
-                             worker.workspace.bytes(), recorder, drawing, window, slices,
-                             cancellation, input_label);
+      // A reading failure is reported with its slice number, so that the run can report the
+      // first bad slice of the volume.
+      own.emplace(*reader, input_label, cuts.depth, &cancellation,
+                  [&failure](std::uint32_t z, std::exception_ptr error) {
+                    failure.fail_reading(z, std::move(error));
+                  });
+      slices = &*own;
     } else {
-      HandedOutSlices slices(worker, info, input_label);
-      went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
-                             worker.workspace.bytes(), recorder, drawing, window, slices,
-                             cancellation, input_label);
+      slices = &handed.emplace(worker, info, input_label);
     }
+    const bool went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
+                                      worker.workspace.bytes(), recorder, drawing, window,
+                                      *slices, cancellation, input_label);
+    if (own) worker.read_seconds += own->read_seconds();
     if (!went_on) return;
   }
 }

@@ -99,9 +99,7 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
       // Left for the writer, which refuses the batch naming the vertex by its index in the
       // whole mesh, as with one thread.
       chunk_->placed.resize(first);
-      chunk_->calls.push_back(
-          {SlabChunk::Kind::vertices, own_only_, static_cast<std::uint32_t>(count)});
-      chunk_->vertices.insert(chunk_->vertices.end(), vertices, vertices + count);
+      record(SlabChunk::Kind::vertices, chunk_->vertices, vertices, count);
       if (normals) chunk_->normals.insert(chunk_->normals.end(), normals, normals + count);
     }
     return after_call() ? Status::ok : Status::sink_refused;
@@ -110,12 +108,17 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
   }
 }
 
+template <class Item>
+void SlabRecorder::record(SlabChunk::Kind kind, std::vector<Item>& items, const Item* batch,
+                          std::size_t count) {
+  chunk_->calls.push_back({kind, own_only_, static_cast<std::uint32_t>(count)});
+  items.insert(items.end(), batch, batch + count);
+}
+
 Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count) {
   if (!placement_) return Status::ok;
   try {
-    chunk_->calls.push_back(
-        {SlabChunk::Kind::polygons, own_only_, static_cast<std::uint32_t>(count)});
-    chunk_->polygons.insert(chunk_->polygons.end(), polygons, polygons + count);
+    record(SlabChunk::Kind::polygons, chunk_->polygons, polygons, count);
     // A geometry batch follows at once when the engine sends one: the chunk is handed on after
     // it, so that the pair stays in one chunk. Otherwise now: a layer of cubes can send many
     // polygon batches with no vertex batch between them.
@@ -129,9 +132,7 @@ Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count
 Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) {
   if (!placement_) return Status::ok;
   try {
-    chunk_->calls.push_back(
-        {SlabChunk::Kind::geometry, own_only_, static_cast<std::uint32_t>(count)});
-    chunk_->geometry.insert(chunk_->geometry.end(), polygons, polygons + count);
+    record(SlabChunk::Kind::geometry, chunk_->geometry, polygons, count);
     return after_call() ? Status::ok : Status::sink_refused;
   } catch (...) {
     return Status::sink_refused;

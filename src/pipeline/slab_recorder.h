@@ -109,6 +109,10 @@ class SlabRecorder final : public PolygonSink {
  private:
   // Hands the chunk on once it is full; false when the run is cancelled.
   bool after_call();
+  // Appends the call and its batch to the current chunk.
+  template <class Item>
+  void record(SlabChunk::Kind kind, std::vector<Item>& items, const Item* batch,
+              std::size_t count);
 
   Handover& handover_;
   const VertexPlacement* placement_;

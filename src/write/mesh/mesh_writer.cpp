@@ -74,8 +74,7 @@ Status MeshWriter::consume_vertices_with_normals(const Vertex* vertices, const g
 void MeshWriter::check_vertex_room(std::size_t vertex_count) const {
   const VertexLimit limit = vertex_limit();
   if (vertex_count > limit.count - std::min(limit.count, vertex_count_))
-    throw Error(subject(), "more than " + std::to_string(limit.count) + " vertices, which " +
-                               limit.reason);
+    throw Error(subject(), limit.problem());
 }
 
 void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,

@@ -70,6 +70,17 @@ struct FacePositions {
 // EngineOptions::polygon_geometry; polygons left without geometry make finish() throw.
 class MeshWriter : public PolygonSink {
  public:
+  // The most vertices a format can index, and why, for the refusal of one more (e.g. PLY's
+  // 32-bit index lists). No limit by default: the indices are whole (whole_vertex_index()).
+  struct VertexLimit {
+    std::uint64_t count;
+    const char* reason;  // "PLY's 32-bit index lists cannot address ..."
+    // "more than COUNT vertices, which REASON": the refusal's problem.
+    std::string problem() const {
+      return "more than " + std::to_string(count) + " vertices, which " + reason;
+    }
+  };
+
   virtual ~MeshWriter() = default;
   MeshWriter(const MeshWriter&) = delete;
   MeshWriter& operator=(const MeshWriter&) = delete;
@@ -123,12 +134,6 @@ class MeshWriter : public PolygonSink {
 
   const MeshWriterOptions& options() const { return options_; }
 
-  // The most vertices the format can index, and why, for the refusal of one more (e.g. PLY's
-  // 32-bit index lists). No limit by default: the indices are whole (whole_vertex_index()).
-  struct VertexLimit {
-    std::uint64_t count;
-    const char* reason;  // "PLY's 32-bit index lists cannot address"
-  };
   virtual VertexLimit vertex_limit() const { return {~std::uint64_t{0}, "64 bits cannot count"}; }
 
   // The derived writer's format. May throw mvox::Error; the base turns that into a refusal.

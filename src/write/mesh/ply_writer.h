@@ -44,10 +44,10 @@ class PlyWriter final : public MeshWriter {
                           std::uint64_t face_count);
   std::uint64_t part_face_bytes() const override { return part_face_bytes_; }
   // The most vertices 32-bit index lists reach, and why no more.
-  static constexpr std::uint64_t kMaxVertices = std::uint64_t{1} << 32;
-  static constexpr const char* kVertexLimitReason =
-      "PLY's 32-bit index lists cannot address; write OBJ, whose indices have no limit";
-  VertexLimit vertex_limit() const override { return {kMaxVertices, kVertexLimitReason}; }
+  static constexpr VertexLimit kVertexLimit = {
+      std::uint64_t{1} << 32,
+      "PLY's 32-bit index lists cannot address; write OBJ, whose indices have no limit"};
+  VertexLimit vertex_limit() const override { return kVertexLimit; }
 
   // Bytes of the header area for these options (binary and ASCII alike), which is also the
   // offset of the first vertex in a file written to a regular target.
