@@ -11,7 +11,7 @@
 
 namespace mvox {
 
-void read_file_bytes(const std::string& path, std::vector<unsigned char>& bytes,
+void read_file_bytes(const std::string& path, ReadBuffer& bytes,
                      std::uint64_t max_bytes) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw Error(path, "cannot open file: " + errno_text(errno));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "read/raw_file.h"
+#include "read/read_buffer.h"
 
 namespace mvox {
 
@@ -41,7 +42,7 @@ class InflateReader {
   struct Stream;  // zlib's z_stream, kept out of this header
   RawFile& file_;
   std::unique_ptr<Stream> stream_;
-  std::vector<unsigned char> input_;
+  ReadBuffer input_;
   std::uint64_t next_input_offset_;
   std::uint64_t end_;
   std::uint64_t position_ = 0;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "read/read_buffer.h"
+
 namespace mvox {
 
 // Owns an open file descriptor (closed on destruction). Every error is an mvox::Error naming
@@ -80,7 +82,7 @@ class ChunkedSliceReader {
   std::uint64_t next_offset_;  // in the file: the first byte not yet read
   std::uint64_t end_offset_;   // in the file: one past the last slice's last byte
   std::size_t buffer_bytes_ = 0;
-  std::vector<unsigned char> buffer_;
+  ReadBuffer buffer_;
   std::size_t begin_ = 0;  // in buffer_: the next slice's first byte
   std::size_t end_ = 0;    // in buffer_: one past the last byte read
 };

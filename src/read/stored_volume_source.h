@@ -11,6 +11,7 @@
 #include "read/inflate_reader.h"
 #include "read/range_readable.h"
 #include "read/raw_file.h"
+#include "read/read_buffer.h"
 #include "read/stored_volume.h"
 
 namespace mvox {
@@ -68,7 +69,7 @@ class StoredVolumeSource : public SliceSource, public RangeReadable {
   StoredVolumeData data_;
   RawFile file_;
   std::unique_ptr<InflateReader> inflate_;
-  std::vector<unsigned char> buffer_;  // the current slice, native order, engine's type
+  ReadBuffer buffer_;  // the current slice, native order, engine's type
   std::uint32_t next_index_ = 0;
   std::uint32_t end_index_ = 0;  // the depth, or a range's end (open_range)
 };

@@ -237,6 +237,30 @@ TEST(RawVolume, ManySmallSlicesAreReadAChunkAtATimeInFixedMemory) {
   EXPECT_EQ(read_all<std::uint8_t>(big_source).size(), 2u);
 }
 
+// The kernel copies file data into memory that is not 64-byte aligned several times slower
+// (src/read/read_buffer.h), so a slice read alone, in a volume file or in a file of its own,
+// must start on a page.
+bool on_a_page(const void* pointer) { return reinterpret_cast<std::uintptr_t>(pointer) % 4096 == 0; }
+
+TEST(RawVolume, SlicesReadAloneStartOnAPage) {
+  ScratchDirectory dir;
+  const std::size_t slice_bytes = RawVolumeSource::kChunkBytes + 5;  // one slice a read
+  write_bytes(dir / "v.raw", std::vector<unsigned char>(3 * slice_bytes, 1));
+  RawVolumeSource volume(dir / "v.raw", parse_raw_format(std::to_string(slice_bytes) + "x1x3:u8"));
+  SliceView slice;
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(volume.next_slice(&slice));
+    EXPECT_TRUE(on_a_page(slice.samples)) << "volume slice " << k << " at " << slice.samples;
+  }
+  write_bytes(dir / "s0.raw", std::vector<unsigned char>(100, 1));
+  write_bytes(dir / "s1.raw", std::vector<unsigned char>(100, 2));
+  RawSlicesSource files({dir / "s0.raw", dir / "s1.raw"}, parse_raw_format("10x10:u8"));
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_TRUE(files.next_slice(&slice));
+    EXPECT_TRUE(on_a_page(slice.samples)) << "slice file " << k << " at " << slice.samples;
+  }
+}
+
 // Writes `bytes` into the FIFO at `path` in pieces of odd sizes with pauses between, so that
 // reads end inside slices, then closes it.
 void trickle_into_fifo(const std::string& path, const std::vector<unsigned char>& bytes) {

@@ -181,7 +181,7 @@ std::optional<ImageHeader> parse_image_header(const unsigned char* bytes, std::s
 }
 
 std::optional<ImageHeader> read_image_header(const std::string& path) {
-  std::vector<unsigned char> bytes;
+  ReadBuffer bytes;
   read_file_bytes(path, bytes, kMaxHeaderBytes);
   return parse_image_header(bytes.data(), bytes.size());
 }

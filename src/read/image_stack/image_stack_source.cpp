@@ -66,7 +66,7 @@ void check_header(const std::string& path, const ImageHeader& header, const Volu
 }
 
 // Reads `path` into `bytes` and checks what its header says, before any decoder sees it.
-void read_checked_file(const std::string& path, std::vector<unsigned char>& bytes,
+void read_checked_file(const std::string& path, ReadBuffer& bytes,
                        const VolumeInfo& info, const std::string& first) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw Error(path, "no such file");
@@ -98,7 +98,7 @@ ImageStackSource::ImageStackSource(std::vector<std::string> files) : files_(std:
   const std::optional<ImageHeader> header = read_image_header(first);
   if (header && header->format == ImageFormat::png && !uses_opencv_) {
     // A PNG that is not plain grey (grey with alpha or a transparent value) is OpenCV's to read.
-    std::vector<unsigned char> start;
+    ReadBuffer start;
     read_file_bytes(first, start, 1 << 20);
     if (!is_plain_grey_png(start.data(), start.size())) uses_opencv_ = true;
   }

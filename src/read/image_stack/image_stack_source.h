@@ -11,6 +11,7 @@
 
 #include "mvox/slice_source.h"
 #include "read/range_readable.h"
+#include "read/read_buffer.h"
 
 namespace mvox {
 
@@ -51,7 +52,7 @@ class ImageStackSource : public SliceSource, public RangeReadable {
   std::vector<std::string> files_;
   VolumeInfo info_;
   std::vector<unsigned char> buffer_;      // the current slice, rows packed, native order
-  std::vector<unsigned char> file_bytes_;  // the current slice's file, while it is decoded
+  ReadBuffer file_bytes_;  // the current slice's file, while it is decoded
   std::size_t row_bytes_ = 0;
   std::uint64_t first_file_bytes_ = 0;  // size of the first file, for working_bytes()
   bool uses_opencv_ = false;            // some slice is decoded by OpenCV

@@ -631,7 +631,7 @@ PlyMesh parse_ply(const void* data, std::size_t size, const std::string& name_fo
 }
 
 PlyMesh read_ply(const std::string& path) {
-  std::vector<unsigned char> bytes;
+  ReadBuffer bytes;
   read_file_bytes(path, bytes);
   return parse_ply(bytes.data(), bytes.size(), path);
 }

@@ -10,6 +10,7 @@
 #include "mvox/slice_source.h"
 #include "read/range_readable.h"
 #include "read/raw/raw_format.h"
+#include "read/read_buffer.h"
 
 namespace mvox {
 
@@ -35,7 +36,7 @@ class RawSlicesSource : public SliceSource, public RangeReadable {
   std::vector<std::string> files_;
   RawFormat format_;
   VolumeInfo info_;
-  std::vector<unsigned char> buffer_;  // the current slice, native order
+  ReadBuffer buffer_;  // the current slice, native order
   std::size_t next_index_ = 0;
   std::size_t end_index_ = SIZE_MAX;  // one past the last file it returns (open_range)
 };

@@ -304,7 +304,7 @@ PageBuffers check_page_data(TiffStackSource::Tiff& tiff, std::uint64_t page_inde
 
 // Resizes `buffer` to at least `bytes`; a failed allocation is an mvox::Error naming the file,
 // the bytes and `what` they were for, never a bare std::bad_alloc.
-void grow_buffer(std::vector<unsigned char>& buffer, std::uint64_t bytes, const std::string& path,
+void grow_buffer(ReadBuffer& buffer, std::uint64_t bytes, const std::string& path,
                  const std::string& what) {
   if (buffer.size() >= bytes) return;
   try {
@@ -507,7 +507,7 @@ bool TiffStackSource::read_chunk(std::uint32_t index, bool deflate, unsigned cha
                                 static_cast<tmsize_t>(out_bytes)) != 0;
 }
 
-void TiffStackSource::read_page(std::vector<unsigned char>& buffer, std::uint16_t compression) {
+void TiffStackSource::read_page(ReadBuffer& buffer, std::uint16_t compression) {
   TIFF* t = open_->handle;
   const std::string page = page_subject(page_in_file_);
   const bool deflate = is_deflate(compression);

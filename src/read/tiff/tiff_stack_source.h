@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mvox/slice_source.h"
+#include "read/read_buffer.h"
 #include "read/zlib_stream_check.h"
 
 namespace mvox {
@@ -52,7 +53,7 @@ class TiffStackSource : public SliceSource {
 
  private:
   void check_file(std::size_t file_index, std::uint64_t* pages);
-  void read_page(std::vector<unsigned char>& buffer, std::uint16_t compression);
+  void read_page(ReadBuffer& buffer, std::uint16_t compression);
   // Decodes strip or tile `index` of the current page, rows of `row_samples` samples, into
   // out[0, out_bytes); false when libtiff cannot. Deflate data are inflated whole here, so that
   // their checksum is checked (zlib_stream_check.h), and throw when corrupt.
@@ -62,9 +63,9 @@ class TiffStackSource : public SliceSource {
   std::vector<std::string> files_;
   std::vector<std::uint64_t> pages_per_file_;  // counted by the constructor
   VolumeInfo info_;
-  std::vector<unsigned char> buffer_;  // the current slice, native order; from the first slice
-  std::vector<unsigned char> tile_;    // one decoded tile of a tiled page
-  std::vector<unsigned char> raw_;     // one stored deflate strip or tile
+  ReadBuffer buffer_;  // the current slice, native order; from the first slice
+  ReadBuffer tile_;    // one decoded tile of a tiled page
+  ReadBuffer raw_;     // one stored deflate strip or tile
   std::unique_ptr<ZlibStreamCheck> deflate_check_;  // from the first deflate page
   // Upper bounds over every page, from the directories (working_bytes()).
   std::uint64_t largest_tile_ = 0;           // decoded bytes of the largest tile
