@@ -4,37 +4,18 @@
 // for callers that hand the mesh on in memory, such as the Python module.
 #include <cstdint>
 #include <memory>
-#include <new>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "write/mesh/growable_array.h"
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
 
-// An allocator whose resize() leaves new numbers uninitialised: the writers fill every one right
-// after, and zeroing them first cost as much as copying the mesh once more.
+// Numbers grown without copying (growable_array.h).
 template <class T>
-struct UninitialisedAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = UninitialisedAllocator<U>;
-  };
-  UninitialisedAllocator() = default;
-  template <class U>
-  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <class T>
-using ArrayOf = std::vector<T, UninitialisedAllocator<T>>;
+using ArrayOf = GrowableArray<T>;
 
 // Faces in the compressed-row layout of VTK's cell arrays: face i is
 // polygon_indices[polygon_offsets[i] .. polygon_offsets[i + 1]).
