@@ -18,6 +18,7 @@ packages=(
   xvfb                                                              # the --show window's test, on a virtual display
   strace                                                            # --sync's test sees mvox's fsync calls
   pybind11-dev python3-dev python3-numpy python3-pytest             # the Python module and its tests
+  python3-meshio                                                    # the Python tests read mvox.write's files with it
   libopenmpi-dev openmpi-bin                                        # mvox-mpi (only it links MPI) and mpirun
   time hyperfine                                                    # benchmarks (/usr/bin/time -v)
 )

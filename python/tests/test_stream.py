@@ -40,6 +40,32 @@ def test_pieces_joined_are_the_whole_volume_surface(dtype, options):
     assert sum(len(piece[1]) - 1 for piece in pieces[:-1]) > 0
 
 
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.int16, np.float32])
+@pytest.mark.parametrize("options", [{}, {"triangulate": True},
+                                     {"spacing": (0.5, 2.0, 1.25), "origin": (-3.0, 4.5, 1.0)}])
+def test_normals_pieces_joined_are_the_whole_volume_normals(dtype, options):
+    volume = blobs(dtype, shape=(17, 11, 13), seed=5)
+    whole = mvox.extract(volume, threshold_of(dtype), normals=True, **options)
+    pieces, counters = stream(volume, threshold_of(dtype), normals=True, **options)
+    assert all(len(piece) == 4 for piece in pieces)
+    for column, expected in ((0, whole.vertices), (3, whole.normals)):
+        joined = np.concatenate([piece[column] for piece in pieces])
+        assert joined.shape == expected.shape and joined.tobytes() == expected.tobytes()
+    assert np.array_equal(np.concatenate([piece[2] for piece in pieces]), whole.polygon_indices)
+    assert counters == whole.counters
+    # Each piece has a normal for each of its vertices, and the first slice completes nothing
+    # yet: the engine takes a slice once the one after it has arrived.
+    assert all(len(piece[3]) == len(piece[0]) for piece in pieces)
+    assert len(pieces[0][0]) == 0
+
+
+def test_normals_need_one_dtype_for_every_slice():
+    extractor = mvox.Extractor(13, 11, 100, normals=True)
+    extractor.push(np.zeros((11, 13), np.uint8))
+    with pytest.raises(TypeError, match="first slice"):
+        extractor.push(np.zeros((11, 13), np.uint16))
+
+
 def test_a_piece_refers_only_to_vertices_already_returned():
     volume = blobs(np.uint8, shape=(12, 11, 13), seed=7)
     pieces, _ = stream(volume, 100)

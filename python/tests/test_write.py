@@ -1,7 +1,7 @@
 """mvox.write: a Mesh through the command line's own writers gives the files `mvox extract`
-writes (header comments aside); and the arrays convert to the conventions of other mesh
-libraries with numpy alone: PyVista's padded face list, trimesh's (M, 3) faces, VTK's offsets
-and connectivity."""
+writes (header comments aside), normals included; and the arrays convert to the conventions of
+other mesh libraries with numpy alone: PyVista's padded face list, trimesh's (M, 3) faces, VTK's
+offsets and connectivity."""
 import numpy as np
 import pytest
 
@@ -88,6 +88,54 @@ def test_meshes_it_cannot_write_are_refused_before_any_byte(tmp_path):
     mesh.polygon_offsets[1:] += 1 << 40  # the caller's arrays are writable
     with pytest.raises(ValueError, match="polygon_offsets"):
         mvox.write(mesh, str(tmp_path / "broken.ply"))
-    with pytest.raises(ValueError, match="normals"):
-        mvox.write(mvox.extract(blobs(np.uint8), 100, normals=True), str(tmp_path / "n.ply"))
     assert not list(tmp_path.iterdir())
+
+
+def test_normals_are_written_where_the_format_has_room(tmp_path, volume_and_cli):
+    volume, cli = volume_and_cli
+    mesh = mvox.extract(volume, 100, normals=True)
+    mvox.write(mesh, str(tmp_path / "py.ply"))
+    ours, theirs = read_ply(tmp_path / "py.ply"), read_ply(cli("cli.ply", "--normals"))
+    assert ours[1] is not None
+    for mine, cli_array in zip(ours, theirs):
+        assert mine.tobytes() == cli_array.tobytes()
+
+    # OBJ: the v, vn and f lines the command line writes, each kind in the same order.
+    mvox.write(mesh, str(tmp_path / "py.obj"))
+    theirs_obj = cli("cli.obj", "--normals")
+
+    def lines(path, kind):
+        return [line for line in path.read_text().splitlines() if line.startswith(kind + " ")]
+    for kind in ("v", "vn", "f"):
+        assert lines(tmp_path / "py.obj", kind) == lines(theirs_obj, kind), kind
+        assert lines(theirs_obj, kind)
+
+    # STL has face normals only: the mesh's vertex normals change nothing there.
+    triangles = mvox.extract(volume, 100, triangulate=True, normals=True)
+    mvox.write(triangles, str(tmp_path / "py.stl"))
+    assert (tmp_path / "py.stl").read_bytes()[80:] == cli("cli.stl").read_bytes()[80:]
+
+
+def test_meshio_reads_the_files_as_the_arrays_are(tmp_path):
+    """meshio (Debian's python3-meshio), a reader of many mesh formats, finds in mvox.write's
+    files the mesh the arrays hold: PLY and OBJ face by face (meshio cuts the faces into runs of
+    one size, in order), STL triangle by triangle."""
+    meshio = pytest.importorskip("meshio", reason="python3-meshio (scripts/install_deps.sh)")
+    mesh = mvox.extract(blobs(np.uint8, shape=(10, 12, 14), seed=3), 100)
+    sizes = np.diff(mesh.polygon_offsets)
+    assert set(sizes) >= {3, 4}, "the case needs faces of more than one size"
+    for name in ("m.ply", "m.obj"):
+        mvox.write(mesh, str(tmp_path / name))
+        read = meshio.read(tmp_path / name)
+        assert read.points.astype(np.float32).tobytes() == mesh.vertices.tobytes(), name
+        assert np.array_equal(np.concatenate([[len(row)] * len(block.data) for block in read.cells
+                                              for row in block.data[:1]]), sizes), name
+        assert np.array_equal(np.concatenate([block.data.ravel() for block in read.cells]),
+                              mesh.polygon_indices), name
+
+    triangles = mvox.extract(blobs(np.uint8, shape=(10, 12, 14), seed=3), 100, triangulate=True)
+    mvox.write(triangles, str(tmp_path / "m.stl"))
+    read = meshio.read(tmp_path / "m.stl")
+    ours = triangles.vertices[triangles.faces]  # (M, 3 corners, 3)
+    theirs = read.points[np.concatenate([block.data for block in read.cells])]
+    assert np.array_equal(theirs.astype(np.float32), ours)

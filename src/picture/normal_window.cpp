@@ -38,4 +38,11 @@ NormalWindow::NormalWindow(const VolumeInfo& volume, const std::array<double, 3>
                 std::string("cannot keep slices for normals: ") + status_message(status));
 }
 
+void NormalWindow::restart_for(SampleType type) {
+  const Status status =
+      window_.init(memory_.data(), memory_.size(), window_.width(), window_.height(), type);
+  if (status != Status::ok)
+    throw Error("normals", std::string("cannot keep slices: ") + status_message(status));
+}
+
 }  // namespace mvox

@@ -21,6 +21,11 @@ class NormalWindow {
   NormalWindow(const NormalWindow&) = delete;
   NormalWindow& operator=(const NormalWindow&) = delete;
 
+  // Empties the window and starts it afresh for slices of `type`, no wider than the type it
+  // was made for: for a caller that learns the type from the first slice (mvox.Extractor makes
+  // it for f32, the widest).
+  void restart_for(SampleType type);
+
   SliceWindow& window() { return window_; }
   const VertexNormals& normals() const { return normals_; }
 
