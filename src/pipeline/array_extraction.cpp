@@ -103,10 +103,11 @@ class AlignedArraysSink : public PolygonSink {
   }
 
   Status take_polygons(const Polygon* polygons, std::size_t polygon_count) {
-    const std::size_t corners = polygon_corners(polygons, polygon_count);
-    grow(mesh_.polygon_indices, mesh_.polygon_indices.size() + corners + kMaxPolygonVertices);
+    // Room for seven indices a polygon, append_polygons' slack: the prediction is made from
+    // the indices held, so the slack inflates it by one batch at most.
+    grow(mesh_.polygon_indices, mesh_.polygon_indices.size() + polygon_count * kMaxPolygonVertices);
     grow(mesh_.polygon_offsets, mesh_.polygon_offsets.size() + polygon_count);
-    append_polygons(mesh_, polygons, polygon_count, corners);
+    append_polygons(mesh_, polygons, polygon_count);
     return Status::ok;
   }
 
@@ -149,8 +150,8 @@ ArrayExtraction extract_to_arrays(SliceSource& source, const ArrayExtractionOpti
                                          options.placement.spacing[2]};
   // Slabs when asked and the volume has two or more.
   const bool slabs = options.threads > 1 && slab_count(volume, 0) >= 2;
-  if (!slabs && !options.normals && !options.triangulate &&
-      options.placement.is_axis_aligned() && !options.placement.mirrors()) {
+  if (!slabs && !options.normals && !options.triangulate && options.placement.is_axis_aligned() &&
+      !options.placement.mirrors()) {
     AlignedArraysSink sink(options.placement, volume.depth, label);
     const PipelineResult result =
         run_pipeline(source, options.threshold, options.engine, sink, label);

@@ -27,20 +27,13 @@ void MeshArraysWriter::write_vertices(const WorldVertex* vertices, std::size_t v
 
 void MeshArraysWriter::write_faces(const Polygon* faces, const FacePositions*,
                                    std::size_t face_count) {
-  append_polygons(arrays_, faces, face_count, polygon_corners(faces, face_count));
+  append_polygons(arrays_, faces, face_count);
 }
 
-std::size_t polygon_corners(const Polygon* polygons, std::size_t count) {
-  std::size_t corners = 0;
-  for (std::size_t i = 0; i < count; ++i) corners += polygons[i].vertex_count;
-  return corners;
-}
-
-void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count,
-                     std::size_t corners) {
+void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count) {
   const std::size_t first_index = arrays.polygon_indices.size();
   const std::size_t first_face = arrays.polygon_offsets.size();
-  arrays.polygon_indices.resize(first_index + corners + kMaxPolygonVertices);
+  arrays.polygon_indices.resize(first_index + count * kMaxPolygonVertices);
   arrays.polygon_offsets.resize(first_face + count);
   std::int32_t* index = arrays.polygon_indices.data() + first_index;
   std::int64_t* offset = arrays.polygon_offsets.data() + first_face;
@@ -54,7 +47,7 @@ void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t co
     at += polygon.vertex_count;
     *offset++ = at;
   }
-  arrays.polygon_indices.resize(first_index + corners);
+  arrays.polygon_indices.resize(static_cast<std::size_t>(at));
 }
 
 }  // namespace mvox

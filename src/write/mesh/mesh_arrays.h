@@ -29,14 +29,10 @@ struct MeshArrays {
   std::size_t face_count() const { return polygon_offsets.size() - 1; }
 };
 
-// Corners of `count` polygons: how many indices they add.
-std::size_t polygon_corners(const Polygon* polygons, std::size_t count);
-
-// Appends `count` polygons (`corners` indices, polygon_corners) to `arrays`' offsets and
-// indices. Each polygon's seven index slots are copied whole, without a branch on its size,
-// the next one overwriting the unused: room for one polygon's slack, trimmed at the end.
-void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count,
-                     std::size_t corners);
+// Appends `count` polygons to `arrays`' offsets and indices in one pass. Each polygon's seven
+// index slots are copied whole, without a branch on its size, the next one overwriting the
+// unused: the indices are first grown by seven a polygon, then cut back to what they hold.
+void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count);
 
 // A MeshWriter into MeshArrays. Memory grows with the mesh, as the arrays it returns must.
 class MeshArraysWriter : public MeshWriter {
