@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -73,16 +74,22 @@ class AlignedArraysSink : public PolygonSink {
     // doubled a dozen times, each time copying what they hold.
     if (vertex_count > 0)
       done_ = std::min(1.0, (vertices[vertex_count - 1].z + 1.0) / (depth_ + 1.0));
-    grow(mesh_.vertices, first + 3 * vertex_count);
-    mesh_.vertices.resize(first + 3 * vertex_count);
+    // One float of room past the batch: see the identity case.
+    grow(mesh_.vertices, first + 3 * vertex_count + 1);
+    mesh_.vertices.resize(first + 3 * vertex_count + 1);
     float* out = mesh_.vertices.data() + first;
     if (identity_) {
       // Spacing 1 and origin 0: 0 + 1 * v in double is v exactly, so the float is v itself.
-      for (std::size_t i = 0; i < vertex_count; ++i, out += 3) {
-        out[0] = vertices[i].x;
-        out[1] = vertices[i].y;
-        out[2] = vertices[i].z;
-      }
+      // Each vertex is copied as its first 16 bytes (x, y, z and what follows), one load and
+      // one store; the next vertex overwrites the fourth float, the room left past the batch
+      // the last one's.
+      static_assert(sizeof(Vertex) >= 4 * sizeof(float) && offsetof(Vertex, x) == 0 &&
+                        offsetof(Vertex, y) == sizeof(float) &&
+                        offsetof(Vertex, z) == 2 * sizeof(float),
+                    "x, y, z lead a Vertex");
+      for (std::size_t i = 0; i < vertex_count; ++i, out += 3)
+        std::memcpy(out, &vertices[i], 4 * sizeof(float));
+      mesh_.vertices.resize(first + 3 * vertex_count);
       return Status::ok;
     }
     for (std::size_t i = 0; i < vertex_count; ++i, out += 3) {
@@ -99,6 +106,7 @@ class AlignedArraysSink : public PolygonSink {
         out[axis] = static_cast<float>(world[axis]);
       }
     }
+    mesh_.vertices.resize(first + 3 * vertex_count);
     return Status::ok;
   }
 

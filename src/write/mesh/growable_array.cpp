@@ -14,9 +14,10 @@ namespace detail {
 
 namespace {
 
-// From this size on an array is a mapping of its own. Below it, malloc's blocks waste less and
-// cost no system call; copying them on growth is cheap.
-constexpr std::size_t kMappedBytes = std::size_t{1} << 20;
+// From this size on an array is a mapping of its own (and can take a kept one). Below it,
+// malloc's blocks waste less and cost no system call. Not much higher: malloc hands blocks
+// above 128 KiB out as fresh mappings of its own, whose pages fault in one by one.
+constexpr std::size_t kMappedBytes = std::size_t{64} << 10;
 
 std::size_t page_bytes() {
   static const std::size_t bytes = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
@@ -139,9 +140,23 @@ void GrowableBytes::reserve(std::size_t wanted, std::size_t used) {
   }
   const std::size_t bytes = whole_huge_pages(wanted);
   if (mapped) {
-    // In place when the addresses after it are free, else moved whole to a reservation: either
-    // way the pages it holds are not copied.
+    // In place when the addresses after it are free, else moved to a kept mapping or a fresh
+    // reservation: in no case are the pages it holds copied.
     void* grown = ::mremap(data, capacity, bytes, 0);
+    if (grown == MAP_FAILED) {
+      // Into a kept mapping large enough: its first pages give way to this array's, moved, and
+      // the rest it keeps, already faulted in.
+      const MappingPool::Mapping kept = mapping_pool().take(bytes);
+      if (kept.data != nullptr) {
+        grown = ::mremap(data, capacity, capacity, MREMAP_MAYMOVE | MREMAP_FIXED, kept.data);
+        if (grown != MAP_FAILED) {
+          data = grown;
+          capacity = kept.bytes;
+          return;
+        }
+        mapping_pool().give(kept);
+      }
+    }
     if (grown == MAP_FAILED) {
       char* const destination = aligned_reservation(bytes);
       grown = ::mremap(data, capacity, bytes, MREMAP_MAYMOVE | MREMAP_FIXED, destination);

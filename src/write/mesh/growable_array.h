@@ -4,7 +4,7 @@
 //
 // A std::vector grown by reserve() copies its contents into the new block every time, element
 // by element with a custom allocator: collecting MRbrain's mesh (25 MB in three arrays) spent a
-// third of mvox.extract's time there. Here an array of 1 MiB or more is its own memory mapping,
+// third of mvox.extract's time there. Here an array of 64 KiB or more is its own memory mapping,
 // and growing it is mremap(), which moves page-table entries and copies nothing. Smaller arrays
 // use malloc and realloc. resize() leaves new numbers uninitialised: the writers fill every one
 // right after, and zeroing them first cost as much as copying the mesh once more.
