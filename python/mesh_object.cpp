@@ -6,8 +6,9 @@
 
 namespace mvox {
 
-EngineOptions engine_options(const std::string& method) {
+EngineOptions engine_options(const std::string& method, bool interpolate) {
   EngineOptions options;
+  options.interpolate = interpolate;
   if (method == "voxels") {
     options.method = SurfaceMethod::voxels;
   } else if (method == "cubes") {

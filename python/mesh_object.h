@@ -14,8 +14,9 @@
 namespace mvox {
 namespace py = pybind11;
 
-// The engine's options for method="voxels" or "cubes"; a ValueError for any other.
-EngineOptions engine_options(const std::string& method);
+// The engine's options for method="voxels" or "cubes" (a ValueError for any other), with
+// marching voxels' vertices interpolated when asked (marching cubes' always are).
+EngineOptions engine_options(const std::string& method, bool interpolate);
 
 // spacing and origin, (x, y, z), as --spacing and --origin.
 WorldTransform placement(const std::array<double, 3>& spacing, const std::array<double, 3>& origin);

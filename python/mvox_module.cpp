@@ -51,6 +51,7 @@ PYBIND11_MODULE(mvox, m) {
         py::arg("spacing") = std::array<double, 3>{1, 1, 1},
         py::arg("origin") = std::array<double, 3>{0, 0, 0}, py::arg("method") = "voxels",
         py::arg("triangulate") = false, py::arg("normals") = false, py::arg("copy") = false,
+        py::arg("interpolate") = false,
         R"(The closed surface of the voxels >= threshold in `volume`, indexed [z, y, x].
 
 volume: a numpy array of uint8, uint16, int16 or float32, read without a copy; its rows must be
@@ -58,16 +59,20 @@ volume: a numpy array of uint8, uint16, int16 or float32, read without a copy; i
 spacing, origin: (x, y, z), as mvox extract's --spacing and --origin: vertex = origin +
     spacing * (column, row, slice).
 method: "voxels" (marching voxels) or "cubes" (marching cubes).
+interpolate: marching voxels' vertices moved along their edges from the midpoints to where the
+    interpolated samples cross the threshold, as marching cubes places them: the same polygons,
+    a smooth surface.
 Returns an mvox.Mesh, equal to what `mvox extract -o mesh.ply` writes for the same samples.)");
 
   py::class_<Extractor>(m, "Extractor",
                         "Slices pushed one at a time; each push returns the mesh it completed")
       .def(py::init<std::uint32_t, std::uint32_t, double, std::array<double, 3>,
-                    std::array<double, 3>, const std::string&, bool, bool>(),
+                    std::array<double, 3>, const std::string&, bool, bool, bool>(),
            py::arg("width"), py::arg("height"), py::arg("threshold"),
            py::arg("spacing") = std::array<double, 3>{1, 1, 1},
            py::arg("origin") = std::array<double, 3>{0, 0, 0}, py::arg("method") = "voxels",
-           py::arg("triangulate") = false, py::arg("normals") = false)
+           py::arg("triangulate") = false, py::arg("normals") = false,
+           py::arg("interpolate") = false)
       .def("push", &Extractor::push, py::arg("slice"),
            "Takes a [y, x] slice; returns (vertices, polygon_offsets, polygon_indices) completed "
            "by it, indices counted from the volume's first vertex, and with normals=True the "
@@ -106,6 +111,7 @@ A mesh with normals has them written to PLY and OBJ; STL holds face normals only
         py::arg("raw") = py::none(), py::arg("spacing") = py::none(),
         py::arg("origin") = py::none(), py::arg("method") = "voxels",
         py::arg("triangulate") = false, py::arg("normals") = false, py::arg("threads") = 1,
+        py::arg("interpolate") = false,
         R"(The surface of a file or stack, streamed slice by slice without building the volume in
 Python: the mesh `mvox extract INPUT -t threshold -o mesh.ply` writes, as an mvox.Mesh, placed
 by the input's own spacing, origin and axes unless spacing or origin are given.

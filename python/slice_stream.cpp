@@ -10,7 +10,7 @@ namespace mvox {
 
 Extractor::Extractor(std::uint32_t width, std::uint32_t height, double threshold,
                      std::array<double, 3> spacing, std::array<double, 3> origin,
-                     const std::string& method, bool triangulate, bool normals)
+                     const std::string& method, bool triangulate, bool normals, bool interpolate)
     : width_(width), height_(height), triangulate_(triangulate) {
   MeshWriterOptions mesh;
   mesh.transform = placement(spacing, origin);
@@ -26,7 +26,7 @@ Extractor::Extractor(std::uint32_t width, std::uint32_t height, double threshold
     mesh.normals = &normals_->normals();
   }
   writer_ = std::make_unique<MeshArraysWriter>(mesh, "mvox.Extractor");
-  EngineOptions options = engine_options(method);
+  EngineOptions options = engine_options(method, interpolate);
   if (writer_->needs_polygon_geometry()) options.polygon_geometry = true;
   const std::size_t bytes = engine_workspace_bytes(width, height, options);
   if (bytes == 0)

@@ -27,7 +27,7 @@ class Extractor {
  public:
   Extractor(std::uint32_t width, std::uint32_t height, double threshold,
             std::array<double, 3> spacing, std::array<double, 3> origin, const std::string& method,
-            bool triangulate, bool normals);
+            bool triangulate, bool normals, bool interpolate);
 
   // What the slice completed: (vertices, polygon_offsets, polygon_indices), and the vertices'
   // normals fourth with normals=True. Indices count from the volume's first vertex, offsets

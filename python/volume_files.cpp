@@ -76,14 +76,14 @@ py::array Volume::next() {
 Mesh extract_file(const py::object& paths, double threshold, const std::optional<std::string>& raw,
                   const std::optional<std::array<double, 3>>& spacing,
                   const std::optional<std::array<double, 3>>& origin, const std::string& method,
-                  bool triangulate, bool normals, unsigned threads) {
+                  bool triangulate, bool normals, unsigned threads, bool interpolate) {
   if (threads < 1) throw py::value_error("threads must be 1 or more");
   // Listed once: `paths` may be a generator.
   const std::vector<std::string> list = input_paths(paths);
   OpenedInput input = open_paths(list, raw);
   ArrayExtractionOptions options;
   options.threshold = threshold;
-  options.engine = engine_options(method);
+  options.engine = engine_options(method, interpolate);
   // The input's own placement (DICOM orientation, NRRD space directions...), as the command
   // line places it; spacing and origin, when given, win as --spacing and --origin do.
   options.placement = WorldTransform::of_volume(input.source->info());

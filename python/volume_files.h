@@ -37,6 +37,6 @@ class Volume {
 Mesh extract_file(const py::object& paths, double threshold, const std::optional<std::string>& raw,
                   const std::optional<std::array<double, 3>>& spacing,
                   const std::optional<std::array<double, 3>>& origin, const std::string& method,
-                  bool triangulate, bool normals, unsigned threads);
+                  bool triangulate, bool normals, unsigned threads, bool interpolate);
 
 }  // namespace mvox

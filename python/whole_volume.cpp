@@ -11,7 +11,7 @@ namespace mvox {
 
 Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
              std::array<double, 3> origin, const std::string& method, bool triangulate,
-             bool normals, bool copy) {
+             bool normals, bool copy, bool interpolate) {
   if (volume.ndim() != 3)
     throw py::value_error("volume must have 3 dimensions [z, y, x] (slice, row, column), got " +
                           std::to_string(volume.ndim()));
@@ -40,7 +40,7 @@ Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
   MemoryVolumeSource source(volume.data(), info, volume.strides(0), volume.strides(1));
   ArrayExtractionOptions options;
   options.threshold = threshold;
-  options.engine = engine_options(method);
+  options.engine = engine_options(method, interpolate);
   options.placement = placement(spacing, origin);
   options.triangulate = triangulate;
   options.normals = normals;

@@ -11,6 +11,6 @@ namespace mvox {
 
 Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
              std::array<double, 3> origin, const std::string& method, bool triangulate,
-             bool normals, bool copy);
+             bool normals, bool copy, bool interpolate);
 
 }  // namespace mvox

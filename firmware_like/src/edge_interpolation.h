@@ -1,8 +1,8 @@
 #pragma once
 // Marching cubes' vertex placement: where the samples, interpolated linearly along a voxel
 // edge, cross the threshold (Lorensen and Cline). The engine keeps the samples of the two
-// slices of the current cube layer for it; marching voxels needs none (its vertices sit at
-// midpoints).
+// slices of the current cube layer for it. Marching voxels' vertices sit at midpoints unless
+// EngineOptions::interpolate moves them here too: its vertices lie on the same voxel edges.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>

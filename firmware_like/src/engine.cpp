@@ -7,7 +7,8 @@
 //           The fast engine walks the cubes in the order PASS 2 numbered the vertices, so it
 //           knows each vertex's index by running counts; the literal engine asks the edge planes.
 // Marching cubes runs the same passes with its own table of triangles (PASS 3) and moves each
-// vertex along its edge to the interpolated crossing (edge_interpolation.h).
+// vertex along its edge to the interpolated crossing (edge_interpolation.h); marching voxels
+// moves its vertices so too when options.interpolate asks.
 // Slices -1 and D (one past the last) are all outer, so every surface closes.
 #include "mvox/engine.h"
 
@@ -64,6 +65,12 @@ struct Layout {
   std::size_t samples[2] = {};
   std::size_t total = 0;
 };
+
+// Marching cubes always places its vertices at the interpolated crossing; marching voxels when
+// asked.
+bool interpolates(const EngineOptions& options) {
+  return options.method == SurfaceMethod::cubes || options.interpolate;
+}
 
 bool options_valid(const EngineOptions& options) {
   if (options.method == SurfaceMethod::cubes)
@@ -149,8 +156,8 @@ bool compute_layout(std::uint32_t width, std::uint32_t height, const EngineOptio
   layout->literal =
       take(options.kind == EngineKind::literal ? LiteralLayers::bytes(width, height) : 0);
   for (int slot = 0; slot < 2; ++slot)
-    layout->samples[slot] = take(
-        options.method == SurfaceMethod::cubes ? EdgeInterpolation::slab_bytes(width, height) : 0);
+    layout->samples[slot] =
+        take(interpolates(options) ? EdgeInterpolation::slab_bytes(width, height) : 0);
   if (offset > SIZE_MAX / 2) return false;
   layout->total = static_cast<std::size_t>(offset);
   return true;
@@ -231,7 +238,7 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
     state->geometry_batch = reinterpret_cast<PolygonGeometry*>(base + layout.geometry);
   if (options.kind == EngineKind::literal)
     state->literal.init(base + layout.literal, width, height);
-  if (options.method == SurfaceMethod::cubes) {
+  if (interpolates(options)) {
     state->interpolate = true;
     state->interpolation.init(reinterpret_cast<unsigned char*>(base + layout.samples[0]),
                               reinterpret_cast<unsigned char*>(base + layout.samples[1]), width,
@@ -311,6 +318,10 @@ class Emitter {
   Polygon& next_polygon() { return polygons_[polygon_fill_]; }
   // Null unless the options ask for polygons by value.
   PolygonGeometry* next_geometry() { return geometry_ ? &geometry_[polygon_fill_] : nullptr; }
+  // Where vertex() places a vertex: the polygons sent by value must use the same positions.
+  void place(Vertex& vertex) const {
+    if (interpolation_) interpolation_->place(vertex);
+  }
 
   bool commit_polygon() {
     const Polygon& p = polygons_[polygon_fill_++];
@@ -600,8 +611,10 @@ bool emit_cube(std::uint32_t cx, std::uint32_t cy, std::uint32_t z, unsigned con
       const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
       const float z0 = static_cast<float>(z) - 1.0f;
       geometry->vertex_count = out.vertex_count;
-      for (int i = 0; i < out.vertex_count; ++i)
+      for (int i = 0; i < out.vertex_count; ++i) {
         geometry->vertices[i] = cube_edge_vertex(polygons.edges[offset + i], x0, y0, z0, config);
+        emitter.place(geometry->vertices[i]);
+      }
     }
     offset += out.vertex_count;
     if (!emitter.commit_polygon()) return false;

@@ -37,6 +37,7 @@ def threshold_of(dtype):
     {"normals": True},
     {"method": "cubes"},
     {"spacing": (0.5, 2.0, 1.25), "origin": (-3.0, 4.5, 100.0)},
+    {"interpolate": True, "normals": True},
 ])
 def test_the_same_surface_as_the_command_line(tmp_path, mvox_binary, dtype, options):
     volume = blobs(dtype)
@@ -52,6 +53,8 @@ def test_the_same_surface_as_the_command_line(tmp_path, mvox_binary, dtype, opti
         arguments.append("--normals")
     if "method" in options:
         arguments += ["--method", options["method"]]
+    if options.get("interpolate"):
+        arguments.append("--interpolate")
     if "spacing" in options:
         arguments += ["--spacing", ",".join(map(repr, options["spacing"])),
                       "--origin", ",".join(map(repr, options["origin"]))]
@@ -157,3 +160,16 @@ def test_a_deep_volume_with_its_surface_in_the_first_slices_reserves_little():
     mesh = mvox.extract(volume, 128)
     assert mesh.counters["vertices"] > 1000
     assert vm_peak_kib() - before < 512 * 1024, "more than 512 MiB of address space reserved"
+
+
+def test_interpolated_vertices_keep_the_polygons_and_move_along_their_edges():
+    volume = blobs(np.float32)
+    midpoints = mvox.extract(volume, threshold_of(np.float32))
+    moved = mvox.extract(volume, threshold_of(np.float32), interpolate=True)
+    assert np.array_equal(moved.polygon_offsets, midpoints.polygon_offsets)
+    assert np.array_equal(moved.polygon_indices, midpoints.polygon_indices)
+    shift = moved.vertices - midpoints.vertices
+    # One coordinate a vertex, by at most half a voxel; most vertices move.
+    assert np.all(np.count_nonzero(shift, axis=1) <= 1)
+    assert np.all(np.abs(shift) <= 0.5)
+    assert np.count_nonzero(shift) > len(shift) // 2

@@ -23,7 +23,8 @@ def stream(volume, threshold, **options):
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.int16, np.float32])
 @pytest.mark.parametrize("options", [{}, {"triangulate": True}, {"method": "cubes"},
-                                     {"spacing": (0.5, 2.0, 1.25), "origin": (-3.0, 4.5, 1.0)}])
+                                     {"spacing": (0.5, 2.0, 1.25), "origin": (-3.0, 4.5, 1.0)},
+                                     {"interpolate": True}])
 def test_pieces_joined_are_the_whole_volume_surface(dtype, options):
     volume = blobs(dtype, shape=(17, 11, 13), seed=5)
     whole = mvox.extract(volume, threshold_of(dtype), **options)

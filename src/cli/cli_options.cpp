@@ -59,6 +59,10 @@ void add_engine_options(CLI::App& command, EngineChoice& choice) {
                   "and six inner voxels, which opens holes (to reproduce the paper)")
       ->check(CLI::IsMember({"merge-rules", "paper-table1"}))
       ->capture_default_str();
+  command.add_flag("--interpolate", choice.interpolate,
+                   "Move each vertex along its voxel edge from the midpoint to where the "
+                   "interpolated samples cross the threshold (smooth, as marching cubes places "
+                   "them); the same polygons, still closed. Marching cubes always does");
 }
 
 EngineOptions EngineChoice::options() const {
@@ -72,6 +76,7 @@ EngineOptions EngineChoice::options() const {
   }
   result.kind = engine == "literal" ? EngineKind::literal : EngineKind::fast;
   result.rule = surface == "paper-table1" ? SurfaceRule::paper_table1 : SurfaceRule::merge_rules;
+  result.interpolate = interpolate;
   return result;
 }
 

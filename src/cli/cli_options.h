@@ -17,10 +17,11 @@ struct EngineChoice {
   std::string method = "voxels";
   std::string engine = "fast";
   std::string surface = "merge-rules";
+  bool interpolate = false;
   EngineOptions options() const;
 };
 
-// --method, --engine, --surface.
+// --method, --engine, --surface, --interpolate.
 void add_engine_options(CLI::App& command, EngineChoice& choice);
 
 // --format, --ascii, --triangulate, --spacing X,Y,Z and --origin X,Y,Z (both override what the

@@ -104,9 +104,10 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
   if (job.engine.method == SurfaceMethod::cubes)
     std::snprintf(comment, sizeof comment, "mvox marching cubes, threshold %g", args.threshold);
   else
-    std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s",
+    std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s%s",
                   args.threshold, engine_kind_name(job.engine.kind),
-                  surface_rule_name(job.engine.rule));
+                  surface_rule_name(job.engine.rule),
+                  job.engine.interpolate ? ", interpolated vertices" : "");
   job.mesh = mesh_writer_options(args.mesh, info, job.input_label, comment);
   job.normals = args.normals;
   job.picture = args.picture.options();

@@ -56,7 +56,7 @@ void print_run_summary(const RunReport& r) {
     for (int size = 3; size <= kMaxPolygonVertices; ++size)
       std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
                    grouped(c.polygons_by_size[size]).c_str());
-    std::fprintf(stderr, ")");
+    std::fprintf(stderr, ")%s", r.interpolated ? ", vertices interpolated" : "");
   }
   // STL and --triangulate write triangles: say how many, and in which format.
   if (!r.output.empty() && r.faces_written != c.polygons)
@@ -131,8 +131,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     slabs.normals = job.normals;
     slabs.smooth_picture = picture && job.picture.smooth;
     if (own_range_reader(source)) slabs.reader_bytes = source.working_bytes();
-    plan.add(std::to_string(threads) +
-                 " slab workers (workspace, slices, window, recorded output)",
+    plan.add(std::to_string(threads) + " slab workers (workspace, slices, window, recorded output)",
              slab_pipeline_bytes(info, engine, slabs));
     if (picture)  // and the picture's own slab numbers, once the layers are composited
       plan.add(std::to_string(threads) + " picture layers (z-buffer, slab of each pixel)",
@@ -176,6 +175,7 @@ RunReport start_run_report(const SliceSource& source, const MeshJob& job) {
   report.method = surface_method_name(job.engine.method);
   report.engine = engine_kind_name(job.engine.kind);
   report.surface = surface_rule_name(job.engine.rule);
+  report.interpolated = job.engine.method == SurfaceMethod::cubes || job.engine.interpolate;
   return report;
 }
 

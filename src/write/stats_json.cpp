@@ -103,6 +103,7 @@ std::string run_report_json(const RunReport& r) {
       << "  \"method\": " << json_string(r.method) << ",\n"
       << "  \"engine\": " << json_string(r.engine) << ",\n"
       << "  \"surface\": " << json_string(r.surface) << ",\n"
+      << "  \"interpolated\": " << (r.interpolated ? "true" : "false") << ",\n"
       << "  \"inner_voxels\": " << c.inner_voxels << ",\n"
       << "  \"vertices\": " << c.vertices << ",\n"
       << "  \"polygons\": " << c.polygons << ",\n"

@@ -116,8 +116,12 @@ TEST(EngineSlabs, EveryMethodKindAndRuleJoinsToTheWholeVolume) {
   tiny_batches.vertices_per_batch = 1;
   tiny_batches.polygons_per_batch = 3;
   tiny_batches.polygon_geometry = true;
-  for (const EngineOptions& options :
-       {EngineOptions{}, literal, table1, literal_table1, cubes, tiny_batches}) {
+  EngineOptions interpolated;
+  interpolated.interpolate = true;  // needs the previous slab's last samples
+  EngineOptions literal_interpolated = literal;
+  literal_interpolated.interpolate = true;
+  for (const EngineOptions& options : {EngineOptions{}, literal, table1, literal_table1, cubes,
+                                       tiny_batches, interpolated, literal_interpolated}) {
     expect_slabs_equal_whole(volume, 100, cuts, options);
   }
 }

@@ -20,6 +20,7 @@ const std::vector<MeshCase>& every_format_and_option() {
       {"ply", "--method cubes --normals --ascii"},
       {"ply", "--engine literal"},
       {"ply", "--surface paper-table1"},
+      {"obj", "--interpolate --normals"},
   };
   return cases;
 }

@@ -40,7 +40,8 @@ constexpr std::size_t kWorkspaceAlignment = alignof(std::uint64_t);
 
 struct EngineOptions {
   // Marching cubes keeps the samples of the two slices of the current cube layer too, to
-  // interpolate vertex positions: 8 bytes of workspace per slice pixel more.
+  // interpolate vertex positions: 8 bytes of workspace per slice pixel more (so does
+  // `interpolate` below).
   SurfaceMethod method = SurfaceMethod::voxels;
   // Marching voxels only: marching cubes must keep the defaults (fast, merge_rules).
   EngineKind kind = EngineKind::fast;
@@ -50,6 +51,12 @@ struct EngineOptions {
   // Also send every polygon batch by value (PolygonSink::consume_polygon_geometry), for a
   // renderer. Adds polygons_per_batch * sizeof(PolygonGeometry) bytes (116 each) of workspace.
   bool polygon_geometry = false;
+  // Marching voxels: move each vertex along its edge from the midpoint to where the samples,
+  // interpolated linearly, cross the threshold, as marching cubes places its vertices. The
+  // polygons, their indices and so the topology stay the same; a vertex between a voxel and the
+  // outside of the volume keeps its midpoint. The same workspace as marching cubes' samples.
+  // Marching cubes always interpolates.
+  bool interpolate = false;
 };
 
 // What the engine has seen and produced so far.
