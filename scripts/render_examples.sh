@@ -18,6 +18,18 @@ mkdir -p "$out"
 # MRbrain's slices are sagittal, 2 units apart: looking along z shows the side of the head.
 "$mvox" extract "$data/mrbrain8bit/mrbrain-8bit*.png" -t 50 --spacing 1,1,2 \
   --image "$out/mrbrain.png" --view 0,-90 --image-size $size -q
+# The mesh itself, each face shaded flat by its own normal as a mesh viewer or a print shows it:
+# CThead's skin with vertices at the midpoints (terraces) and with --interpolate.
+tmp_meshes=$(mktemp -d)
+for placement in midpoints interpolated; do
+  extra=()
+  [ "$placement" = interpolated ] && extra=(--interpolate)
+  "$mvox" extract "$data/cthead/CThead.*" --raw 256x256:u16be -t 600 --spacing 1,1,2 \
+    -o "$tmp_meshes/$placement.ply" "${extra[@]}" -q
+  "$mvox" render "$tmp_meshes/$placement.ply" -o "$out/cthead_$placement.png" --flat --cull \
+    --view -30,-10,180 --image-size $size -q
+done
+rm -rf "$tmp_meshes"
 # The demo phantom (no data needed): mvox demo writes demo.ply and demo.png.
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
