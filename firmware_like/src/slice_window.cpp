@@ -7,20 +7,28 @@
 
 namespace mvox {
 
-std::size_t slice_window_bytes(std::uint32_t width, std::uint32_t height, SampleType type) {
-  if (width == 0 || height == 0) return 0;
-  const std::uint64_t bytes =
-      std::uint64_t{kSliceWindowDepth} * width * height * sample_bytes(type);
+std::uint32_t slice_window_slots(std::uint32_t depth) {
+  if (depth > (1u << 30)) return 0;
+  std::uint32_t slots = kSliceWindowDepth;
+  while (slots < depth) slots *= 2;
+  return slots;
+}
+
+std::size_t slice_window_bytes(std::uint32_t width, std::uint32_t height, SampleType type,
+                               std::uint32_t depth) {
+  const std::uint32_t slots = slice_window_slots(depth);
+  if (width == 0 || height == 0 || slots == 0) return 0;
+  const std::uint64_t bytes = std::uint64_t{slots} * width * height * sample_bytes(type);
   if (bytes > SIZE_MAX / 2) return 0;
   return static_cast<std::size_t>(bytes);
 }
 
 Status SliceWindow::init(void* workspace, std::size_t workspace_bytes, std::uint32_t width,
-                         std::uint32_t height, SampleType type) {
+                         std::uint32_t height, SampleType type, std::uint32_t depth) {
   slots_ = nullptr;
   slices_ = 0;
   first_ = 0;
-  const std::size_t needed = slice_window_bytes(width, height, type);
+  const std::size_t needed = slice_window_bytes(width, height, type, depth);
   if (!workspace || needed == 0) return Status::invalid_argument;
   if (workspace_bytes < needed) return Status::workspace_too_small;
   slots_ = static_cast<unsigned char*>(workspace);
@@ -28,6 +36,7 @@ Status SliceWindow::init(void* workspace, std::size_t workspace_bytes, std::uint
   height_ = height;
   type_ = type;
   row_bytes_ = std::size_t{width} * sample_bytes(type);
+  slots_held_ = slice_window_slots(depth);
   return Status::ok;
 }
 
@@ -38,7 +47,7 @@ Status SliceWindow::push(const SliceView& slice) {
     return Status::slice_size_mismatch;
   if (slices_ == UINT32_MAX) return Status::invalid_argument;
   const auto* source = static_cast<const unsigned char*>(slice.samples);
-  unsigned char* target = slots_ + std::size_t{slices_ % kSliceWindowDepth} * height_ * row_bytes_;
+  unsigned char* target = slots_ + std::size_t{slices_ & (slots_held_ - 1)} * height_ * row_bytes_;
   if (slice.row_stride_bytes == row_bytes_) {
     std::memcpy(target, source, row_bytes_ * height_);
   } else {

@@ -26,21 +26,21 @@ glm::vec3 normal_spacing(const std::array<double, 3>& spacing) {
 }  // namespace
 
 NormalWindow::NormalWindow(const VolumeInfo& volume, const std::array<double, 3>& spacing,
-                           const std::string& input_label)
-    : normals_(window_, normal_spacing(spacing)) {
-  const std::size_t bytes = slice_window_bytes(volume.width, volume.height, volume.type);
+                           const std::string& input_label, std::uint32_t depth)
+    : depth_(depth), normals_(window_, normal_spacing(spacing)) {
+  const std::size_t bytes = slice_window_bytes(volume.width, volume.height, volume.type, depth);
   if (bytes == 0) throw Error(input_label, "slices too large to keep for normals");
   memory_.resize(bytes);
-  const Status status =
-      window_.init(memory_.data(), memory_.size(), volume.width, volume.height, volume.type);
+  const Status status = window_.init(memory_.data(), memory_.size(), volume.width, volume.height,
+                                     volume.type, depth);
   if (status != Status::ok)
     throw Error(input_label,
                 std::string("cannot keep slices for normals: ") + status_message(status));
 }
 
 void NormalWindow::restart_for(SampleType type) {
-  const Status status =
-      window_.init(memory_.data(), memory_.size(), window_.width(), window_.height(), type);
+  const Status status = window_.init(memory_.data(), memory_.size(), window_.width(),
+                                     window_.height(), type, depth_);
   if (status != Status::ok)
     throw Error("normals", std::string("cannot keep slices: ") + status_message(status));
 }

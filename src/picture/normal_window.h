@@ -3,6 +3,7 @@
 // and the VertexNormals over it, owned together. Pass window() to the pipeline so the engine is
 // fed behind it, and normals() to the mesh writer and the renderer.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,10 @@ class NormalWindow {
  public:
   // `spacing` is the voxel size the mesh is written with. Throws mvox::Error naming
   // `input_label` if the slices are too large to keep four of.
+  // `depth`: the slices to hold (slice_window.h), more than four for a caller that asks about
+  // vertices some layers after the engine made them.
   NormalWindow(const VolumeInfo& volume, const std::array<double, 3>& spacing,
-               const std::string& input_label);
+               const std::string& input_label, std::uint32_t depth = kSliceWindowDepth);
   NormalWindow(const NormalWindow&) = delete;
   NormalWindow& operator=(const NormalWindow&) = delete;
 
@@ -31,6 +34,7 @@ class NormalWindow {
 
  private:
   std::vector<unsigned char> memory_;
+  std::uint32_t depth_;
   SliceWindow window_;
   VertexNormals normals_;
 };

@@ -48,6 +48,36 @@ TEST(SliceWindow, WorkspaceIsFourSlicesAndEverySizeBelowIsRefused) {
   EXPECT_EQ(window.init(memory.data() + 1, bound, 7, 5, SampleType::u16), Status::ok);
 }
 
+// A stage that holds layers back (smoothing) asks about vertices some slices later: the window
+// can hold more, a power of two at least as many as asked.
+TEST(SliceWindow, ADeeperWindowHoldsThatManyOfTheLastSlices) {
+  EXPECT_EQ(slice_window_slots(0), 4u);
+  EXPECT_EQ(slice_window_slots(4), 4u);
+  EXPECT_EQ(slice_window_slots(5), 8u);
+  EXPECT_EQ(slice_window_slots(15), 16u);
+  EXPECT_EQ(slice_window_slots(17), 32u);
+  EXPECT_EQ(slice_window_bytes(7, 5, SampleType::u16, 15), 16u * 7 * 5 * 2);
+  const std::uint32_t w = 7, h = 5, d = 40;
+  std::vector<unsigned char> memory(slice_window_bytes(w, h, SampleType::u16, 13));
+  SliceWindow window;
+  ASSERT_EQ(window.init(memory.data(), memory.size() - 1, w, h, SampleType::u16, 13),
+            Status::workspace_too_small);
+  ASSERT_EQ(window.init(memory.data(), memory.size(), w, h, SampleType::u16, 13), Status::ok);
+  EXPECT_EQ(window.slots(), 16u);
+  std::vector<std::uint16_t> slice(std::size_t{w} * h);
+  for (std::uint32_t z = 0; z < d; ++z) {
+    for (std::uint32_t y = 0; y < h; ++y)
+      for (std::uint32_t x = 0; x < w; ++x) slice[std::size_t{y} * w + x] = pattern(x, y, z);
+    SliceView view{slice.data(), w, h, std::size_t{w} * 2, SampleType::u16};
+    ASSERT_EQ(window.push(view), Status::ok);
+    for (std::uint32_t held = 0; held <= z; ++held) {
+      ASSERT_EQ(window.holds(held), held + 16 > z) << held << " after " << z;
+      if (window.holds(held))
+        ASSERT_EQ(window.sample(3, 2, held), pattern(3, 2, held)) << held << " after " << z;
+    }
+  }
+}
+
 TEST(SliceWindow, HoldsExactlyTheLastFourSlices) {
   const std::uint32_t w = 7, h = 5, d = 11;
   std::vector<unsigned char> memory(slice_window_bytes(w, h, SampleType::u16));

@@ -18,9 +18,17 @@ namespace mvox {
 // Slices held: z - 2 .. z + 1 around the engine's current slice z.
 constexpr std::uint32_t kSliceWindowDepth = 4;
 
-// Bytes of workspace for a window over slices of width x height samples of `type`:
-// kSliceWindowDepth * width * height * sample_bytes(type). 0 when a size is 0 or too large.
-std::size_t slice_window_bytes(std::uint32_t width, std::uint32_t height, SampleType type);
+// The slices a window asked to hold `depth` slices holds: at least kSliceWindowDepth, rounded
+// up to a power of two (a slice's slot is then a mask of its number, as cheap as with four).
+// 0 when `depth` is too large. A deeper window serves callers that ask about vertices some
+// layers after the engine made them (a smoothing stage that holds layers back).
+std::uint32_t slice_window_slots(std::uint32_t depth);
+
+// Bytes of workspace for a window over slices of width x height samples of `type`, holding
+// `depth` slices: slice_window_slots(depth) * width * height * sample_bytes(type). 0 when a
+// size is 0 or too large.
+std::size_t slice_window_bytes(std::uint32_t width, std::uint32_t height, SampleType type,
+                               std::uint32_t depth = kSliceWindowDepth);
 
 class SliceWindow {
  public:
@@ -28,10 +36,11 @@ class SliceWindow {
   SliceWindow(const SliceWindow&) = delete;
   SliceWindow& operator=(const SliceWindow&) = delete;
 
-  // Prepares an empty window over `workspace` (borrowed; at least slice_window_bytes() bytes,
-  // any alignment). May be called again to start a new volume.
+  // Prepares an empty window over `workspace` (borrowed; at least slice_window_bytes() bytes
+  // for the same `depth`, any alignment), holding slice_window_slots(depth) slices. May be
+  // called again to start a new volume.
   Status init(void* workspace, std::size_t workspace_bytes, std::uint32_t width,
-              std::uint32_t height, SampleType type);
+              std::uint32_t height, SampleType type, std::uint32_t depth = kSliceWindowDepth);
 
   // Empties the window and numbers the next slice pushed `first_slice`: for a slab of a larger
   // volume (Engine::begin_slab), whose slices keep their numbers in the volume. init() starts
@@ -45,15 +54,15 @@ class SliceWindow {
   Status push(const SliceView& slice);
 
   // The number the next slice pushed gets: the slices pushed so far, counted from the first
-  // one's number. The window holds slices max(first, slices() - 4) .. slices() - 1.
+  // one's number. The window holds slices max(first, slices() - slots()) .. slices() - 1.
   std::uint32_t slices() const { return slices_; }
   bool holds(std::int64_t z) const {
     return z >= std::int64_t{first_} && z < std::int64_t{slices_} &&
-           z + kSliceWindowDepth >= slices_;
+           z + slots_held_ >= slices_;
   }
 
   // A view of held slice `z` (holds(z) must be true); valid until that slot is overwritten,
-  // kSliceWindowDepth pushes later.
+  // slots() pushes later.
   SliceView slice(std::uint32_t z) const;
 
   // The sample at voxel (x, y, z) as a double, with x, y clamped to the slice and z clamped to
@@ -66,11 +75,15 @@ class SliceWindow {
   SampleType type() const { return type_; }
   // Start of row y of held slice z (z already clamped and held), for loops that read rows.
   const unsigned char* row(std::uint32_t y, std::uint32_t z) const {
-    return slots_ + (std::size_t{z % kSliceWindowDepth} * height_ + y) * row_bytes_;
+    return slots_ + (std::size_t{z & (slots_held_ - 1)} * height_ + y) * row_bytes_;
   }
 
+  // The number of slices held, slice_window_slots() of the depth asked for.
+  std::uint32_t slots() const { return slots_held_; }
+
  private:
-  unsigned char* slots_ = nullptr;  // kSliceWindowDepth slices, slice z in slot z % depth
+  unsigned char* slots_ = nullptr;  // slots_held_ slices, slice z in slot z & (slots_held_ - 1)
+  std::uint32_t slots_held_ = kSliceWindowDepth;
   std::size_t row_bytes_ = 0;
   std::uint32_t width_ = 0;
   std::uint32_t height_ = 0;
