@@ -17,6 +17,7 @@
 #include "pipeline/slab_extraction.h"
 #include "pipeline/stopwatch.h"
 #include "pipeline/termination.h"
+#include "postprocess/edge_smoothing.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
 #include "write/slice_image_writer.h"
@@ -57,6 +58,9 @@ void print_run_summary(const RunReport& r) {
       std::fprintf(stderr, "%s%d-gons %s", size > 3 ? ", " : "", size,
                    grouped(c.polygons_by_size[size]).c_str());
     std::fprintf(stderr, ")%s", r.interpolated ? ", vertices interpolated" : "");
+  }
+  if (r.smooth_iterations > 0) {
+    std::fprintf(stderr, ", smoothed %u times", r.smooth_iterations);
   }
   // STL and --triangulate write triangles: say how many, and in which format.
   if (!r.output.empty() && r.faces_written != c.polygons)
@@ -110,8 +114,11 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
         std::uint64_t{info.width} * info.height * info.depth * sample_bytes(info.type);
     threads = bytes >= kAutoSlabVolumeBytes ? std::max(1u, std::thread::hardware_concurrency()) : 1;
   }
-  // Frames and the live window show the picture slice by slice, as one engine draws it.
-  if (threads <= 1 || !job.picture.frames_dir.empty() || job.picture.show) return 1;
+  // Frames and the live window show the picture slice by slice, as one engine draws it; the
+  // smoothing needs the layers on both sides of a slab's boundary.
+  if (threads <= 1 || !job.picture.frames_dir.empty() || job.picture.show ||
+      job.smooth_iterations > 0)
+    return 1;
   const std::uint32_t slabs = slab_count(info, job.slab_slices);
   // At most one worker per slab (run_slab_pipeline takes no more).
   return slabs >= 2 ? std::min(threads, slabs) : 1;
@@ -143,8 +150,13 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     plan.add("reader (slice and decoder buffers)", source.working_bytes());
     if (job.read_ahead)
       plan.add("reading ahead (2 batches)", PrefetchingSource::buffer_bytes(info));
-    if (job.normals || (picture && job.picture.smooth))
-      plan.add("slice window (4 slices)", 4 * slice);
+    if (job.normals || (picture && job.picture.smooth)) {
+      const std::uint32_t slots = slice_window_slots(smooth_window_depth(job.smooth_iterations));
+      plan.add("slice window (" + std::to_string(slots) + " slices)", slots * slice);
+    }
+    if (job.smooth_iterations > 0)
+      plan.add("smoothing (" + std::to_string(job.smooth_iterations + 3) + " layers held)",
+               EdgeSmoothing::layer_bytes(info.width, info.height) * (job.smooth_iterations + 3));
   }
   if (picture) {
     // The z-buffer, and an encoded picture or frame: at most about one byte a pixel for the
@@ -176,6 +188,7 @@ RunReport start_run_report(const SliceSource& source, const MeshJob& job) {
   report.engine = engine_kind_name(job.engine.kind);
   report.surface = surface_rule_name(job.engine.rule);
   report.interpolated = job.engine.method == SurfaceMethod::cubes || job.engine.interpolate;
+  report.smooth_iterations = job.smooth_iterations;
   return report;
 }
 
@@ -232,7 +245,8 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   const unsigned threads = slab_threads(source, job);
   std::optional<NormalWindow> normal_window;
   if (threads == 1 && (job.normals || (want_picture && job.picture.smooth)))
-    normal_window.emplace(report.volume, placement.spacing, job.input_label);
+    normal_window.emplace(report.volume, placement.spacing, job.input_label,
+                          smooth_window_depth(job.smooth_iterations));
   const VertexNormals* normals = normal_window ? &normal_window->normals() : nullptr;
   std::unique_ptr<MeshWriter> writer;
   if (want_mesh) {
@@ -257,6 +271,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (writer) sinks.mesh = &*writer;
   if (picture) sinks.render = &picture->sink();
   if (normal_window) sinks.window = &normal_window->window();
+  sinks.smooth_iterations = job.smooth_iterations;
   {
     ProgressLine progress("extracting", report.volume.depth,
                           !job.quiet && ProgressLine::stderr_is_terminal());

@@ -22,6 +22,10 @@ struct MeshJob {
   // Placement, comments, --triangulate; its `normals` is set by the job when `normals` is true.
   MeshWriterOptions mesh;
   bool normals = false;  // write gradient normals (PLY nx, ny, nz; OBJ vn) into the mesh
+  // --smooth N: iterations of edge-held smoothing (postprocess/edge_smoothing.h), 0 for none.
+  // One engine does it (not slabs): the smoothing needs the layers on both sides of a slab's
+  // boundary.
+  std::uint32_t smooth_iterations = 0;
   PictureOptions picture;
   std::string stats_path;    // empty: no report
   // Make every output durable (fsync) before it appears: --sync. Sets the mesh's and the

@@ -1,11 +1,14 @@
 #include "pipeline/pipeline.h"
 
 #include <chrono>
+#include <exception>
+#include <optional>
 
 #include "error.h"
 #include "mvox/fan_out_sink.h"
 #include "mvox/workspace_buffer.h"
 #include "pipeline/stopwatch.h"
+#include "postprocess/edge_smoothing.h"
 
 namespace mvox {
 namespace {
@@ -54,6 +57,10 @@ class TimedSource : public SliceSource {
 
 }  // namespace
 
+std::uint32_t smooth_window_depth(std::uint32_t iterations) {
+  return iterations == 0 ? kSliceWindowDepth : iterations + 5;
+}
+
 PipelineResult run_pipeline(SliceSource& source, double threshold, const EngineOptions& options,
                             PolygonSink& sink, const std::string& input_label,
                             const ProgressCallback& progress) {
@@ -80,17 +87,34 @@ PipelineResult run_pipeline(SliceSource& source, double threshold,
   fan_out.add(sinks.render);
   const int render_index = sinks.mesh ? 1 : 0;
   SinkTimes sink_times(fan_out);
+  // Smoothing remakes the polygons by value at the smoothed positions: the engine need not.
+  std::optional<EdgeSmoothing> smoothing;
+  if (sinks.smooth_iterations > 0) {
+    smoothing.emplace(fan_out, info, sinks.smooth_iterations, options.polygon_geometry);
+    options.polygon_geometry = false;
+  }
   Engine engine;
-  const Status init = engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
-                                  threshold, options, &fan_out);
+  const Status init =
+      engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, options,
+                  smoothing ? static_cast<PolygonSink*>(&*smoothing) : &fan_out);
   if (init != Status::ok)
     throw Error(input_label, std::string("cannot start: ") + status_message(init));
 
   TimedSource timed_source(source);
   SliceSource& streamed = source_seconds ? source : timed_source;
   const auto start = Clock::now();
-  const SliceProgress slice_progress = progress ? SliceProgress::of(progress) : SliceProgress{};
+  // Each slice the engine takes completes a layer for the smoothing, before anyone is told.
+  const ProgressCallback layer_done = [&](std::uint32_t slices_done) {
+    if (smoothing) (void)smoothing->end_layer();  // a failure stops the engine at its next call
+    if (progress) progress(slices_done);
+  };
+  const SliceProgress slice_progress =
+      progress || smoothing ? SliceProgress::of(layer_done) : SliceProgress{};
   result.status = stream_volume(streamed, engine, slice_progress, sinks.window);
+  if (smoothing) {
+    if (result.status == Status::ok) result.status = smoothing->finish();
+    if (smoothing->thrown()) std::rethrow_exception(smoothing->thrown());
+  }
   result.times.total_s = seconds_since(start);
   result.times.read_s = source_seconds ? source_seconds() : timed_source.seconds;
   result.times.write_s = sinks.mesh ? sink_times.seconds[0] : 0;

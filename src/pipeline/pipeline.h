@@ -32,8 +32,17 @@ struct PipelineSinks {
   PolygonSink* mesh = nullptr;    // timed as write_s
   PolygonSink* render = nullptr;  // timed as render_s; gets polygons by value
   // Feeds the engine one slice behind the source, for gradient normals (mvox/stream_volume.h).
+  // With smoothing it must hold smooth_window_depth() slices: normals are then asked for
+  // vertices that many layers after the engine made them.
   SliceWindow* window = nullptr;
+  // --smooth N: the engine's output smoothed (postprocess/edge_smoothing.h) before the mesh and
+  // render sinks get it; 0 for none.
+  std::uint32_t smooth_iterations = 0;
 };
+
+// The slices a normals window must hold when the output is smoothed `iterations` times: the
+// smoothing holds N + 1 layers back, and the engine is fed one slice behind the window.
+std::uint32_t smooth_window_depth(std::uint32_t iterations);
 
 // The seconds a source has spent reading so far, for a source that times itself.
 using SourceSeconds = std::function<double()>;

@@ -104,6 +104,7 @@ std::string run_report_json(const RunReport& r) {
       << "  \"engine\": " << json_string(r.engine) << ",\n"
       << "  \"surface\": " << json_string(r.surface) << ",\n"
       << "  \"interpolated\": " << (r.interpolated ? "true" : "false") << ",\n"
+      << "  \"smooth_iterations\": " << r.smooth_iterations << ",\n"
       << "  \"inner_voxels\": " << c.inner_voxels << ",\n"
       << "  \"vertices\": " << c.vertices << ",\n"
       << "  \"polygons\": " << c.polygons << ",\n"

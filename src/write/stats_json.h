@@ -19,10 +19,12 @@ struct RunReport {
   RenderCounters render;            // what the renderer drew (zero without a picture)
   VolumeInfo volume;
   double threshold = 0;
-  std::string method;         // "voxels" or "cubes"
-  std::string engine;         // "fast" or "literal"
-  std::string surface;        // "merge-rules" or "paper-table1"
-  bool interpolated = false;  // vertices at the interpolated crossing (cubes, --interpolate)
+  std::string method;   // "voxels" or "cubes"
+  std::string engine;   // "fast" or "literal"
+  std::string surface;  // "merge-rules" or "paper-table1"
+  bool interpolated = false;
+  std::uint32_t smooth_iterations =
+      0;  // --smooth N  // vertices at the interpolated crossing (cubes, --interpolate)
   PipelineResult result;
   std::uint64_t start_memory_bytes = 0;  // resident when the job started (libraries loaded)
   std::uint64_t peak_memory_bytes = 0;   // peak resident over the process's life

@@ -1,0 +1,113 @@
+// --smooth N from the command line: every mesh format holds the smoothed vertices and the
+// engine's faces, the report, the summary and the file say so, the picture draws the smoothed
+// surface, normals are written at the smoothed positions, threads change nothing (one engine
+// smooths), and the memory plan counts the layers held. (The smoothing itself:
+// tests/host/edge_smoothing_test.cpp.)
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "command_runner.h"
+#include "mesh_topology.h"
+#include "obj_reader.h"
+#include "ply_mesh.h"
+#include "read/ply/ply_reader.h"
+#include "stl_reader.h"
+
+namespace mvox {
+namespace {
+
+using test::run_mvox;
+using test::ScratchDirectory;
+
+// A torus phantom as an image stack in `dir`/stack: a binary surface, terraced.
+void make_stack(const ScratchDirectory& dir) {
+  const auto written = run_mvox("phantom torus -o stack --size 40x36x22 -q", dir.path());
+  ASSERT_EQ(written.exit_code, 0) << written.output;
+}
+
+void expect_success(const std::string& arguments, const ScratchDirectory& dir) {
+  const auto result = run_mvox(arguments, dir.path());
+  EXPECT_EQ(result.exit_code, 0) << arguments << "\n" << result.output;
+}
+
+TEST(SmoothCli, EveryFormatHoldsTheSmoothedVerticesAndTheEnginesFaces) {
+  ScratchDirectory dir;
+  make_stack(dir);
+  for (const char* outputs :
+       {"-o plain.ply", "-o smooth.ply --smooth 8", "-o smooth.obj --smooth 8",
+        "-o smooth.stl --smooth 8", "-o normals.ply --smooth 8 --normals"})
+    expect_success(std::string("extract stack -t 100 -q ") + outputs, dir);
+  const PlyMesh plain = read_ply(dir / "plain.ply");
+  const PlyMesh smooth = read_ply(dir / "smooth.ply");
+  ASSERT_GT(smooth.face_count(), 500u);
+  EXPECT_EQ(smooth.face_offsets, plain.face_offsets);
+  EXPECT_EQ(smooth.face_indices, plain.face_indices);
+  ASSERT_EQ(smooth.vertex_count(), plain.vertex_count());
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < smooth.vertex_count(); ++i) {
+    int axes = 0;
+    for (int a = 0; a < 3; ++a) {
+      const float shift = smooth.positions[i][a] - plain.positions[i][a];
+      ASSERT_LT(std::fabs(shift), 0.5f) << "vertex " << i;
+      axes += shift != 0.0f;
+    }
+    ASSERT_LE(axes, 1) << "vertex " << i << " left its edge";
+    moved += axes;
+  }
+  EXPECT_GT(moved, smooth.vertex_count() / 2);
+  const test::Topology topology = test::analyse(test::to_mesh(smooth));
+  EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
+
+  EXPECT_EQ(test::read_obj(dir / "smooth.obj").positions, smooth.positions);
+  const test::StlFile stl = test::read_stl(dir / "smooth.stl");
+  const std::set<std::array<float, 3>> corners(smooth.positions.begin(), smooth.positions.end());
+  for (const test::StlTriangle& triangle : stl.triangles)
+    for (const auto& corner : triangle.vertices)
+      ASSERT_EQ(corners.count({corner[0], corner[1], corner[2]}), 1u);
+  EXPECT_TRUE(test::analyse(test::welded(stl)).closed_and_consistent());
+
+  // Normals at the smoothed positions: the same vertices, and a unit normal each.
+  const PlyMesh normals = read_ply(dir / "normals.ply");
+  EXPECT_EQ(normals.positions, smooth.positions);
+  ASSERT_EQ(normals.normals.size(), normals.vertex_count());
+  for (const auto& n : normals.normals)
+    ASSERT_NEAR(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 1.0, 1e-4);
+}
+
+TEST(SmoothCli, TheReportTheSummaryTheFileAndThePlanSaySo) {
+  ScratchDirectory dir;
+  make_stack(dir);
+  const auto run =
+      run_mvox("extract stack -t 100 -o smooth.ply --smooth 8 --stats s.json", dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("smoothed 8 times"), std::string::npos) << run.output;
+  const std::string report = test::read_file_bytes(dir / "s.json");
+  EXPECT_NE(report.find("\"smooth_iterations\": 8"), std::string::npos);
+  EXPECT_NE(report.find("smoothing (11 layers held)"), std::string::npos) << report;
+  EXPECT_NE(test::read_file_bytes(dir / "smooth.ply").find("smoothed 8 times"), std::string::npos);
+  const auto help = run_mvox("extract --help", dir.path());
+  EXPECT_NE(help.output.find("--smooth"), std::string::npos);
+  const auto bad = run_mvox("extract stack -t 100 -o x.ply --smooth -1", dir.path());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+}
+
+TEST(SmoothCli, ThePictureDrawsTheSmoothedSurfaceAndThreadsChangeNothing) {
+  ScratchDirectory dir;
+  make_stack(dir);
+  expect_success("extract stack -t 100 -q --image plain.png --flat", dir);
+  expect_success("extract stack -t 100 -q --image smooth.png --flat -o smooth.ply --smooth 6", dir);
+  EXPECT_NE(test::read_file_bytes(dir / "smooth.png"), test::read_file_bytes(dir / "plain.png"));
+  expect_success(
+      "extract stack -t 100 -q --image threads.png --flat -o threads.ply --smooth 6 "
+      "--threads 3 --slab-slices 4",
+      dir);
+  EXPECT_EQ(test::read_file_bytes(dir / "threads.png"), test::read_file_bytes(dir / "smooth.png"));
+  EXPECT_EQ(test::read_file_bytes(dir / "threads.ply"), test::read_file_bytes(dir / "smooth.ply"));
+}
+
+}  // namespace
+}  // namespace mvox
