@@ -121,50 +121,62 @@ std::size_t EdgeSmoothing::layer_of(std::uint64_t index, std::size_t near) const
   return layers_.size();  // not held: the engine's polygons never reach further
 }
 
-void EdgeSmoothing::position(std::uint64_t index, std::size_t layer_index, double out[3]) const {
-  const std::size_t l = layer_of(index, layer_index);
-  const Layer& layer = layers_[l];
-  const std::size_t i = static_cast<std::size_t>(index - layer.first_vertex);
-  const Vertex& vertex = layer.vertices[i];
-  out[0] = vertex.x;
-  out[1] = vertex.y;
-  out[2] = vertex.z;
-  // The layer below the one advancing has gone one iteration further already.
-  out[axis_of(vertex)] = l + 1 == layer_index ? layer.previous[i] : layer.current[i];
-}
-
 void EdgeSmoothing::advance(std::size_t layer_index) {
   Layer& layer = layers_[layer_index];
   const std::size_t count = layer.vertices.size();
+  // The positions its polygons can reach, at the iteration it advances from, side by side: the
+  // layer below (which has gone one iteration further already, so its previous one), its own
+  // and the layer above. A corner is then one subtraction away.
+  const std::size_t below = layer_index > 0 ? layer_index - 1 : layer_index;
+  const std::size_t above = std::min(layer_index + 1, layers_.size() - 1);
+  const std::uint64_t base = layers_[below].first_vertex;
+  const std::uint64_t end = layers_[above].first_vertex + layers_[above].vertices.size();
+  around_.resize(3 * static_cast<std::size_t>(end - base));
+  for (std::size_t l = below; l <= above; ++l) {
+    const Layer& held = layers_[l];
+    const std::vector<float>& coordinate = l + 1 == layer_index ? held.previous : held.current;
+    double* out = &around_[3 * static_cast<std::size_t>(held.first_vertex - base)];
+    for (std::size_t i = 0; i < held.vertices.size(); ++i, out += 3) {
+      const Vertex& vertex = held.vertices[i];
+      out[0] = vertex.x;
+      out[1] = vertex.y;
+      out[2] = vertex.z;
+      out[axis_of(vertex)] = coordinate[i];
+    }
+  }
   sums_.assign(3 * count, 0.0);
   normals_.assign(3 * count, 0.0);
   counts_.assign(count, 0);
+  const std::uint64_t own_from = layer.first_vertex - base;
   // The polygons around the layer's vertices: its own cube layer and the one above.
-  for (std::size_t q = layer_index; q <= layer_index + 1 && q < layers_.size(); ++q) {
+  for (std::size_t q = layer_index; q <= above; ++q) {
     const Layer& holder = layers_[q];
     const std::uint64_t taken = holder.first_vertex + holder.vertices.size();
     for (const Polygon& polygon : holder.polygons) {
       const int n = polygon.vertex_count;
-      std::uint64_t index[kMaxPolygonVertices];
-      double p[kMaxPolygonVertices][3];
+      std::uint64_t at[kMaxPolygonVertices];
+      const double* p[kMaxPolygonVertices];
+      bool reachable = true;
       for (int k = 0; k < n; ++k) {
-        index[k] = whole_vertex_index(polygon.vertices[k], taken);
-        position(index[k], layer_index, p[k]);
+        at[k] = whole_vertex_index(polygon.vertices[k], taken) - base;
+        reachable = reachable && at[k] < end - base;
+        p[k] = reachable ? &around_[3 * static_cast<std::size_t>(at[k])] : nullptr;
       }
+      if (!reachable) continue;  // the engine's polygons never reach further than a layer
       // The polygon's vector area (Newell): its normal times its area.
       double area[3] = {0, 0, 0};
       for (int k = 0; k < n; ++k) {
         const double* a = p[k];
-        const double* b = p[(k + 1) % n];
+        const double* b = p[k + 1 < n ? k + 1 : 0];
         area[0] += 0.5 * (a[1] * b[2] - a[2] * b[1]);
         area[1] += 0.5 * (a[2] * b[0] - a[0] * b[2]);
         area[2] += 0.5 * (a[0] * b[1] - a[1] * b[0]);
       }
       for (int k = 0; k < n; ++k) {
-        if (index[k] < layer.first_vertex || index[k] >= layer.first_vertex + count) continue;
-        const std::size_t i = static_cast<std::size_t>(index[k] - layer.first_vertex);
-        const double* before = p[(k + n - 1) % n];
-        const double* after = p[(k + 1) % n];
+        if (at[k] < own_from || at[k] >= own_from + count) continue;
+        const std::size_t i = static_cast<std::size_t>(at[k] - own_from);
+        const double* before = p[k > 0 ? k - 1 : n - 1];
+        const double* after = p[k + 1 < n ? k + 1 : 0];
         for (int d = 0; d < 3; ++d) {
           sums_[3 * i + d] += before[d] + after[d];
           normals_[3 * i + d] += area[d];

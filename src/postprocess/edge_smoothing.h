@@ -82,8 +82,6 @@ class EdgeSmoothing : public PolygonSink {
   Status arrive();  // the newest layer is complete
   void advance(std::size_t layer);
   Status send(std::size_t layer_index);  // sends layers_[layer_index], final
-  // Position of whole vertex index `index` at the level `layer` is being advanced from.
-  void position(std::uint64_t index, std::size_t layer, double out[3]) const;
   std::size_t layer_of(std::uint64_t index, std::size_t near) const;
 
   PolygonSink& downstream_;
@@ -96,7 +94,8 @@ class EdgeSmoothing : public PolygonSink {
   Status failure_ = Status::ok;
   std::exception_ptr thrown_;
   // Scratch of advance(), kept between calls.
-  std::vector<double> sums_, normals_, next_;
+  std::vector<double> around_, sums_, normals_;
+  std::vector<float> next_;
   std::vector<std::uint32_t> counts_;
   std::vector<Vertex> out_vertices_;
   std::vector<PolygonGeometry> out_geometry_;
