@@ -10,12 +10,15 @@ Slicer applies on export. For each mesh:
 - the area-weighted mean angle between each face's normal and the radial direction at its
   centre, in degrees (what flat shading and a print show).
 
-    PYTHONPATH=build/python /usr/bin/python3 bench/surface_accuracy.py
+    PYTHONPATH=build/python /usr/bin/python3 bench/surface_accuracy.py [--mvox build/src/mvox]
 
-Needs the module `mvox` on PYTHONPATH and numpy; VTK (python3-vtk9, scripts/install_bench_deps.sh)
-for its rows.
+Needs the module `mvox` on PYTHONPATH and numpy; the mvox executable for the --smooth rows (the
+module does not smooth); VTK (python3-vtk9, scripts/install_bench_deps.sh) for its rows.
 """
-import math
+import argparse
+import os
+import subprocess
+import tempfile
 
 import numpy as np
 
@@ -65,6 +68,37 @@ def mvox_rows(volume):
                               mesh.polygon_indices.astype(np.int64))
 
 
+def read_binary_ply(path):
+    """(vertices float64 (N, 3), offsets, indices) of mvox's binary PLY without normals."""
+    data = open(path, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii").splitlines()
+    vertex_count = next(int(line.split()[2]) for line in header if line.startswith("element vertex"))
+    face_count = next(int(line.split()[2]) for line in header if line.startswith("element face"))
+    vertices = np.frombuffer(data, "<f4", 3 * vertex_count, end).reshape(-1, 3).astype(np.float64)
+    at, offsets, indices = end + 12 * vertex_count, [0], []
+    for _ in range(face_count):
+        size = data[at]
+        indices.append(np.frombuffer(data, "<i4", size, at + 1))
+        offsets.append(offsets[-1] + size)
+        at += 1 + 4 * size
+    return vertices, np.array(offsets), np.concatenate(indices).astype(np.int64)
+
+
+def smooth_rows(volume, binary_path):
+    with tempfile.TemporaryDirectory() as scratch:
+        raw = os.path.join(scratch, "v.raw")
+        volume.tofile(raw)
+        for label, options in (("mvox --smooth 5", ["--smooth", "5"]),
+                               ("mvox --smooth 10", ["--smooth", "10"]),
+                               ("mvox --smooth 20", ["--smooth", "20"]),
+                               ("mvox --interpolate --smooth 10", ["--interpolate", "--smooth", "10"])):
+            mesh = os.path.join(scratch, "m.ply")
+            subprocess.run([binary_path, "extract", raw, "--raw", f"{SIZE}x{SIZE}x{SIZE}:u8", "-t", "128",
+                            "-o", mesh, "-q"] + options, check=True)
+            yield label, measures(*read_binary_ply(mesh))
+
+
 def vtk_rows(volume):
     try:
         import vtk
@@ -95,13 +129,18 @@ def vtk_rows(volume):
 
 
 def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    parser.add_argument("--mvox", default=os.path.join(root, "build", "src", "mvox"))
+    arguments = parser.parse_args()
     print(f"Sphere of radius {RADIUS} voxels, centre {tuple(CENTRE)}, in a {SIZE}^3 u8 volume; "
           "threshold 128.\n")
     print("| volume | mesh | mean distance to the sphere (voxels) | "
           "area-weighted face-normal error vs radial |")
     print("|---|---|---|---|")
     for name, volume in spheres().items():
-        for label, (distance, angle) in list(mvox_rows(volume)) + list(vtk_rows(volume)):
+        rows = list(mvox_rows(volume)) + list(smooth_rows(volume, arguments.mvox)) + list(vtk_rows(volume))
+        for label, (distance, angle) in rows:
             print(f"| {name} | {label} | {distance:.3f} | {angle:.1f} deg |")
 
 
