@@ -14,6 +14,7 @@ packages=(
   libjpeg-dev                                                       # JPEG slices, decoded strictly (libjpeg62-turbo)
   libgdcm-dev                                                       # DICOM series (GDCM)
   libcli11-dev                                                      # command-line parsing
+  libmeshoptimizer-dev                                              # --decimate (meshopt_simplify)
   googletest libgtest-dev                                           # tests
   xvfb                                                              # the --show window's test, on a virtual display
   strace                                                            # --sync's test sees mvox's fsync calls

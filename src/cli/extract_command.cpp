@@ -12,6 +12,7 @@
 #include "pipeline/memory_plan.h"
 #include "pipeline/mesh_job.h"
 #include "pipeline/termination.h"
+#include "postprocess/layer_decimation.h"
 #include "read/input_files.h"
 #include "read/input_format.h"
 #include "read/raw/raw_format.h"
@@ -32,6 +33,8 @@ struct ExtractArguments {
   MeshChoice mesh;
   bool normals = false;
   std::uint32_t smooth = 0;
+  double decimate = 0;   // 0: not given
+  double max_error = 0;  // 0: not given
   PictureChoice picture;
   std::string max_memory;  // as given; empty: the default budget
   bool dry_run = false;
@@ -114,6 +117,21 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
   job.mesh = mesh_writer_options(args.mesh, info, job.input_label, described);
   job.normals = args.normals;
   job.smooth_iterations = args.smooth;
+  if (args.decimate > 0 || args.max_error > 0) {
+    if (!decimation_available())
+      throw Error(args.decimate > 0 ? "--decimate" : "--max-error",
+                  "this mvox was built without meshoptimizer: install it (apt-get install "
+                  "libmeshoptimizer-dev) and build again");
+    if (args.normals)
+      throw CLI::ValidationError("--normals",
+                                 "not with --decimate or --max-error: a vertex may leave long "
+                                 "after the slices its gradient needs");
+    DecimationOptions decimation;
+    decimation.ratio = args.decimate > 0 ? args.decimate : 1.0;
+    decimation.max_error_voxels = args.max_error;
+    job.decimation = decimation;
+    job.picture.smooth = false;  // flat: gradients are not kept that long either
+  }
   job.picture = args.picture.options();
   if (args.max_memory.empty()) {
     job.budget = default_memory_budget();
@@ -188,6 +206,22 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                    "closed); for binary masks and segmentations. About 10 is a good start. One "
                    "engine does it (no slab threads)")
       ->check(CLI::Range(0, 1000));
+  command
+      ->add_option("--decimate", args->decimate,
+                   "Simplify the surface to about RATIO of its triangles as it streams (e.g. "
+                   "0.1), closed and manifold, in bounded memory; triangles only. One engine "
+                   "does it; the picture is then shaded flat and --normals is refused")
+      ->check(CLI::Range(0.0, 1.0).description("RATIO in (0, 1]") &
+              CLI::Validator(
+                  [](std::string& text) {
+                    return std::stod(text) > 0 ? std::string() : std::string("must be above 0");
+                  },
+                  "", "above 0"));
+  command
+      ->add_option("--max-error", args->max_error,
+                   "With or without --decimate: let the simplification move the surface by at "
+                   "most E voxels")
+      ->check(CLI::PositiveNumber);
   add_picture_options(*command, args->picture, PictureUse::extraction);
   command->add_option("--stats", args->stats_path,
                       "Also write a JSON report: dimensions, counts, time per phase, peak memory");

@@ -63,6 +63,10 @@ void check_distributable(const SliceSource& source, const MeshJob& job) {
                      "frames and the window follow one engine slice by slice: use mvox extract");
   if (job.threads > 1)
     throw UsageError("--threads", "mvox-mpi runs one engine per rank: start more ranks instead");
+  if (job.decimation)
+    throw UsageError("--decimate",
+                     "the simplification needs the layers on both sides of a slab's boundary, "
+                     "which another rank holds: use mvox extract");
   if (job.smooth_iterations > 0)
     throw UsageError("--smooth",
                      "smoothing needs the layers on both sides of a slab's boundary, which "

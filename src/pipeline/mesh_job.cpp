@@ -62,6 +62,13 @@ void print_run_summary(const RunReport& r) {
   if (r.smooth_iterations > 0) {
     std::fprintf(stderr, ", smoothed %u times", r.smooth_iterations);
   }
+  if (r.decimation) {
+    const DecimationCounts& d = r.result.decimation;
+    std::fprintf(stderr, ", decimated to %s triangles (%.1f%% of %s) on %s vertices",
+                 grouped(d.triangles_out).c_str(),
+                 d.triangles_in ? 100.0 * double(d.triangles_out) / double(d.triangles_in) : 0.0,
+                 grouped(d.triangles_in).c_str(), grouped(d.vertices_out).c_str());
+  }
   // STL and --triangulate write triangles: say how many, and in which format.
   if (!r.output.empty() && r.faces_written != c.polygons)
     std::fprintf(stderr, ", written as %s triangles (%s)", grouped(r.faces_written).c_str(),
@@ -117,7 +124,7 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
   // Frames and the live window show the picture slice by slice, as one engine draws it; the
   // smoothing needs the layers on both sides of a slab's boundary.
   if (threads <= 1 || !job.picture.frames_dir.empty() || job.picture.show ||
-      job.smooth_iterations > 0)
+      job.smooth_iterations > 0 || job.decimation)
     return 1;
   const std::uint32_t slabs = slab_count(info, job.slab_slices);
   // At most one worker per slab (run_slab_pipeline takes no more).
@@ -154,6 +161,11 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
       const std::uint32_t slots = slice_window_slots(smooth_window_depth(job.smooth_iterations));
       plan.add("slice window (" + std::to_string(slots) + " slices)", slots * slice);
     }
+    if (job.decimation)
+      plan.add("decimation (" + std::to_string(LayerDecimation::kLayersPerPass + 1) +
+                   " layers of triangles held)",
+               LayerDecimation::layer_bytes(info.width, info.height) *
+                   (LayerDecimation::kLayersPerPass + 1));
     if (job.smooth_iterations > 0)
       plan.add("smoothing (" + std::to_string(job.smooth_iterations + 3) + " layers held)",
                EdgeSmoothing::layer_bytes(info.width, info.height) * (job.smooth_iterations + 3));
@@ -189,6 +201,7 @@ RunReport start_run_report(const SliceSource& source, const MeshJob& job) {
   report.surface = surface_rule_name(job.engine.rule);
   report.interpolated = job.engine.method == SurfaceMethod::cubes || job.engine.interpolate;
   report.smooth_iterations = job.smooth_iterations;
+  if (job.decimation) report.decimation = *job.decimation;
   return report;
 }
 
@@ -272,6 +285,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (picture) sinks.render = &picture->sink();
   if (normal_window) sinks.window = &normal_window->window();
   sinks.smooth_iterations = job.smooth_iterations;
+  if (job.decimation) sinks.decimation = &*job.decimation;
   {
     ProgressLine progress("extracting", report.volume.depth,
                           !job.quiet && ProgressLine::stderr_is_terminal());

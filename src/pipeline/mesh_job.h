@@ -1,6 +1,7 @@
 #pragma once
 // The job behind `mvox extract` and `mvox demo`: stream a slice source through the engine into a
 // mesh file (PLY, STL or OBJ), with progress, a summary line and an optional --stats report.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,12 +27,15 @@ struct MeshJob {
   // One engine does it (not slabs): the smoothing needs the layers on both sides of a slab's
   // boundary.
   std::uint32_t smooth_iterations = 0;
+  // --decimate / --max-error (postprocess/layer_decimation.h); one engine does it, with flat
+  // pictures and no --normals (vertices may leave long after the slices around them).
+  std::optional<DecimationOptions> decimation;
   PictureOptions picture;
-  std::string stats_path;    // empty: no report
+  std::string stats_path;  // empty: no report
   // Make every output durable (fsync) before it appears: --sync. Sets the mesh's and the
   // picture's own `sync` too.
   bool sync = false;
-  bool quiet = false;        // no progress line, no summary
+  bool quiet = false;  // no progress line, no summary
   // Extracting threads (--threads): above 1, the volume is extracted in slabs, in parallel
   // (slab_extraction.h), mesh and picture the same bytes as one thread (not with frames or
   // --show). 1: one engine.
@@ -42,7 +46,7 @@ struct MeshJob {
   // devices.
   bool read_ahead = true;
   std::uint32_t slab_slices = 0;  // slices per slab (--slab-slices); 0: default_slab_slices()
-  double source_open_s = 0;  // time the caller spent opening the source (counted as reading)
+  double source_open_s = 0;       // time the caller spent opening the source (counted as reading)
   // Every file the source reads: no output may replace one (output_targets.h).
   std::vector<std::string> input_files;
   // The most memory the run may take (memory_plan.h): checked against the plan before

@@ -88,15 +88,24 @@ PipelineResult run_pipeline(SliceSource& source, double threshold,
   const int render_index = sinks.mesh ? 1 : 0;
   SinkTimes sink_times(fan_out);
   // Smoothing remakes the polygons by value at the smoothed positions: the engine need not.
+  // The chain: engine -> smoothing -> decimation -> the sinks. Each stage after the engine
+  // remakes the polygons by value itself, so the engine need not send them.
+  PolygonSink* next = &fan_out;
+  std::optional<LayerDecimation> decimation;
+  if (sinks.decimation) {
+    decimation.emplace(*next, *sinks.decimation, options.polygon_geometry);
+    next = &*decimation;
+  }
   std::optional<EdgeSmoothing> smoothing;
   if (sinks.smooth_iterations > 0) {
-    smoothing.emplace(fan_out, info, sinks.smooth_iterations, options.polygon_geometry);
-    options.polygon_geometry = false;
+    smoothing.emplace(*next, info, sinks.smooth_iterations,
+                      options.polygon_geometry && !decimation);
+    next = &*smoothing;
   }
+  if (smoothing || decimation) options.polygon_geometry = false;
   Engine engine;
-  const Status init =
-      engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, options,
-                  smoothing ? static_cast<PolygonSink*>(&*smoothing) : &fan_out);
+  const Status init = engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
+                                  threshold, options, next);
   if (init != Status::ok)
     throw Error(input_label, std::string("cannot start: ") + status_message(init));
 
@@ -114,6 +123,12 @@ PipelineResult run_pipeline(SliceSource& source, double threshold,
   if (smoothing) {
     if (result.status == Status::ok) result.status = smoothing->finish();
     if (smoothing->thrown()) std::rethrow_exception(smoothing->thrown());
+  }
+  if (decimation) {
+    if (result.status == Status::ok) result.status = decimation->finish();
+    if (decimation->thrown()) std::rethrow_exception(decimation->thrown());
+    result.decimation = {decimation->triangles_in(), decimation->triangles_out(),
+                         decimation->vertices_out()};
   }
   result.times.total_s = seconds_since(start);
   result.times.read_s = source_seconds ? source_seconds() : timed_source.seconds;

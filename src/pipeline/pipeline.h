@@ -8,6 +8,7 @@
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
 #include "mvox/stream_volume.h"
+#include "postprocess/layer_decimation.h"
 
 namespace mvox {
 
@@ -20,9 +21,17 @@ struct PhaseTimes {
   double total_s = 0;    // wall clock from the first slice to the engine's finish()
 };
 
+// What the decimation took and gave, when there was one.
+struct DecimationCounts {
+  std::uint64_t triangles_in = 0;
+  std::uint64_t triangles_out = 0;
+  std::uint64_t vertices_out = 0;
+};
+
 struct PipelineResult {
   Status status = Status::ok;  // the engine's; sink_refused means the sink holds the reason
   EngineCounters counters;
+  DecimationCounts decimation;
   PhaseTimes times;
   std::size_t workspace_bytes = 0;
 };
@@ -38,6 +47,9 @@ struct PipelineSinks {
   // --smooth N: the engine's output smoothed (postprocess/edge_smoothing.h) before the mesh and
   // render sinks get it; 0 for none.
   std::uint32_t smooth_iterations = 0;
+  // --decimate / --max-error: the output simplified (postprocess/layer_decimation.h) after any
+  // smoothing; null for none.
+  const DecimationOptions* decimation = nullptr;
 };
 
 // The slices a normals window must hold when the output is smoothed `iterations` times: the

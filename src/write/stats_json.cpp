@@ -104,8 +104,15 @@ std::string run_report_json(const RunReport& r) {
       << "  \"engine\": " << json_string(r.engine) << ",\n"
       << "  \"surface\": " << json_string(r.surface) << ",\n"
       << "  \"interpolated\": " << (r.interpolated ? "true" : "false") << ",\n"
-      << "  \"smooth_iterations\": " << r.smooth_iterations << ",\n"
-      << "  \"inner_voxels\": " << c.inner_voxels << ",\n"
+      << "  \"smooth_iterations\": " << r.smooth_iterations << ",\n";
+  if (r.decimation) {
+    const DecimationCounts& d = r.result.decimation;
+    out << "  \"decimation\": {\"ratio\": " << number(r.decimation->ratio)
+        << ", \"max_error_voxels\": " << number(r.decimation->max_error_voxels)
+        << ", \"triangles_in\": " << d.triangles_in << ", \"triangles_out\": " << d.triangles_out
+        << ", \"vertices_out\": " << d.vertices_out << "},\n";
+  }
+  out << "  \"inner_voxels\": " << c.inner_voxels << ",\n"
       << "  \"vertices\": " << c.vertices << ",\n"
       << "  \"polygons\": " << c.polygons << ",\n"
       << "  \"polygons_by_size\": {";

@@ -1,12 +1,14 @@
 #pragma once
 // The --stats report: what was extracted, how much, how fast, in how much memory, as JSON.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "mvox/slice_source.h"
 #include "mvox/zbuffer_renderer.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/pipeline.h"
+#include "postprocess/layer_decimation.h"
 
 namespace mvox {
 
@@ -22,9 +24,10 @@ struct RunReport {
   std::string method;   // "voxels" or "cubes"
   std::string engine;   // "fast" or "literal"
   std::string surface;  // "merge-rules" or "paper-table1"
+  // Vertices at the interpolated crossing (--method cubes, --interpolate).
   bool interpolated = false;
-  std::uint32_t smooth_iterations =
-      0;  // --smooth N  // vertices at the interpolated crossing (cubes, --interpolate)
+  std::uint32_t smooth_iterations = 0;          // --smooth N
+  std::optional<DecimationOptions> decimation;  // --decimate, --max-error
   PipelineResult result;
   std::uint64_t start_memory_bytes = 0;  // resident when the job started (libraries loaded)
   std::uint64_t peak_memory_bytes = 0;   // peak resident over the process's life
