@@ -19,12 +19,14 @@ mkdir -p "$out"
 "$mvox" extract "$data/mrbrain8bit/mrbrain-8bit*.png" -t 50 --spacing 1,1,2 \
   --image "$out/mrbrain.png" --view 0,-90 --image-size $size -q
 # The mesh itself, each face shaded flat by its own normal as a mesh viewer or a print shows it:
-# CThead's skin with vertices at the midpoints (terraces), with --interpolate and with --smooth 10.
+# CThead's skin with vertices at the midpoints (terraces), with --interpolate, with --smooth 10
+# and with --interpolate --decimate 0.1.
 tmp_meshes=$(mktemp -d)
-for placement in midpoints interpolated smoothed; do
+for placement in midpoints interpolated smoothed decimated; do
   extra=()
   [ "$placement" = interpolated ] && extra=(--interpolate)
   [ "$placement" = smoothed ] && extra=(--smooth 10)
+  [ "$placement" = decimated ] && extra=(--interpolate --decimate 0.1)
   "$mvox" extract "$data/cthead/CThead.*" --raw 256x256:u16be -t 600 --spacing 1,1,2 \
     -o "$tmp_meshes/$placement.ply" "${extra[@]}" -q
   "$mvox" render "$tmp_meshes/$placement.ply" -o "$out/cthead_$placement.png" --flat --cull \

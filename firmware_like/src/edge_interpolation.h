@@ -3,6 +3,7 @@
 // edge, cross the threshold (Lorensen and Cline). The engine keeps the samples of the two
 // slices of the current cube layer for it. Marching voxels' vertices sit at midpoints unless
 // EngineOptions::interpolate moves them here too: its vertices lie on the same voxel edges.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -27,13 +28,19 @@ class EdgeInterpolation {
     return std::size_t{width} * height * sample_bytes(SampleType::f32);
   }
 
+  // `margin`: how close to either voxel centre a vertex may come, in voxels. Marching voxels
+  // keeps 0.01: a vertex on a voxel centre (a sample equal to the threshold) would have three
+  // whole coordinates, and its polygon could then not be split into triangles without one in a
+  // cube face (polygon_triangulation.h). 0.01 stays a fraction even next to 26,700, the largest
+  // slice side, where floats are 1/256 apart. Marching cubes emits triangles: 0.
   void init(unsigned char* slab0, unsigned char* slab1, std::uint32_t width, std::uint32_t height,
-            double threshold) {
+            double threshold, float margin = 0.0f) {
     slabs_[0] = {slab0, SampleType::u8, false};
     slabs_[1] = {slab1, SampleType::u8, false};
     width_ = width;
     height_ = height;
     threshold_ = static_cast<float>(threshold);
+    margin_ = margin;
   }
 
   // Keeps the samples of slice z in slot z & 1.
@@ -87,7 +94,8 @@ class EdgeInterpolation {
     if (!slab0.present || !slab1.present) return;
     const float a = sample<kType>(slab0, x, y), b = sample<kType>(slab1, x1, y1);
     const float t = (threshold_ - a) / (b - a);
-    along = lower + (t >= 0.0f && t <= 1.0f ? t : 0.5f);
+    along =
+        lower + (t >= 0.0f && t <= 1.0f ? std::min(std::max(t, margin_), 1.0f - margin_) : 0.5f);
   }
 
   static constexpr int kMixedTypes = -1;
@@ -109,6 +117,7 @@ class EdgeInterpolation {
   SampleSlab slabs_[2];
   std::uint32_t width_ = 0, height_ = 0;
   float threshold_ = 0;
+  float margin_ = 0;
 };
 
 }  // namespace mvox

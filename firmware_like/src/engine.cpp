@@ -240,9 +240,12 @@ Status Engine::init(void* workspace, std::size_t workspace_bytes, std::uint32_t 
     state->literal.init(base + layout.literal, width, height);
   if (interpolates(options)) {
     state->interpolate = true;
+    // Marching voxels' vertices stay off the voxel centres, so that their polygons can always
+    // be split into triangles (EdgeInterpolation::init).
+    const float margin = options.method == SurfaceMethod::voxels ? 0.01f : 0.0f;
     state->interpolation.init(reinterpret_cast<unsigned char*>(base + layout.samples[0]),
                               reinterpret_cast<unsigned char*>(base + layout.samples[1]), width,
-                              height, threshold);
+                              height, threshold, margin);
   }
 
   state_ = state;
@@ -941,11 +944,10 @@ bool emit_layer_polygons(const EngineState& st, int lo, int hi, std::uint32_t z,
 Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_slice) {
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
   Emitter emitter(st, counters_);
-  const bool ok = emit_vertices(st, hi, z, height_, real_slice, true, emitter,
-                                counters_.vertices) &&
-                  emitter.flush_vertices() &&
-                  emit_layer_polygons(st, lo, hi, z, width_, height_, emitter) &&
-                  emitter.flush_polygons();
+  const bool ok =
+      emit_vertices(st, hi, z, height_, real_slice, true, emitter, counters_.vertices) &&
+      emitter.flush_vertices() && emit_layer_polygons(st, lo, hi, z, width_, height_, emitter) &&
+      emitter.flush_polygons();
   return ok ? Status::ok : emitter.status();
 }
 
@@ -1013,8 +1015,7 @@ DiscardingSink discarding_sink;
 
 Status Engine::begin_slab(const SliceView& previous, std::uint32_t first_slice) {
   if (failure_ != Status::ok) return failure_;
-  if (first_slice == 0 || counters_.slices != 0 || first_slice_ != 0 ||
-      counters_.vertices != 0)
+  if (first_slice == 0 || counters_.slices != 0 || first_slice_ != 0 || counters_.vertices != 0)
     return Status::invalid_argument;
   if (const Status status = check_slice(previous); status != Status::ok) return status;
 

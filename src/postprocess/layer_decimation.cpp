@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "error.h"
 #include "write/mesh/polygon_triangulation.h"
 
 #if MVOX_HAVE_MESHOPTIMIZER
@@ -115,7 +116,9 @@ Status LayerDecimation::consume_polygons(const Polygon* polygons, std::size_t po
         by_value.vertices[k] = held(index[k]).vertex;
       }
       PolygonTriangles split;
-      if (!triangulate_polygon(by_value, &split)) return failure_ = Status::invalid_argument;
+      if (!triangulate_polygon(by_value, &split))
+        throw Error("decimation", "internal error: a " + std::to_string(polygon.vertex_count) +
+                                      "-gon cannot be split without a diagonal on a cube face");
       for (int t = 0; t < split.count; ++t)
         triangles_.push_back(
             {{index[split.corners[t][0]], index[split.corners[t][1]], index[split.corners[t][2]]}});

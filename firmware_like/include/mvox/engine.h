@@ -54,7 +54,9 @@ struct EngineOptions {
   // Marching voxels: move each vertex along its edge from the midpoint to where the samples,
   // interpolated linearly, cross the threshold, as marching cubes places its vertices. The
   // polygons, their indices and so the topology stay the same; a vertex between a voxel and the
-  // outside of the volume keeps its midpoint. The same workspace as marching cubes' samples.
+  // outside of the volume keeps its midpoint, and none comes closer than 0.01 voxel to a voxel
+  // centre (where a sample equals the threshold), so that every polygon can still be split into
+  // triangles off the cube faces. The same workspace as marching cubes' samples.
   // Marching cubes always interpolates.
   bool interpolate = false;
 };
