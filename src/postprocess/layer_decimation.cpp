@@ -190,12 +190,13 @@ Status LayerDecimation::pass(bool last) {
     // (with the triangles already sent) are then frozen, and the pass is run again: the
     // triangles around a frozen vertex are left out of the simplification (their other
     // vertices become its border, which it keeps) and put back after it, so nothing collapses
-    // onto it. Five tries; then the held triangles go as they are (a valid surface).
+    // onto it. Each try freezes more, so it ends; after kMaxAttempts the held triangles go as
+    // they are (a valid surface). CThead at 600 needs up to a dozen on some passes.
     std::vector<unsigned int> simplified(indices.size()), input;
     std::vector<bool> frozen(whole.size(), false);
     std::vector<Triangle> result;
     std::vector<std::uint64_t> bad;
-    for (int attempt = 0; attempt < 5; ++attempt) {
+    for (int attempt = 0; attempt < kMaxAttempts; ++attempt) {
       input.clear();
       result.clear();
       for (std::size_t i = 0; i < indices.size(); i += 3) {

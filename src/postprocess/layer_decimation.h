@@ -44,6 +44,7 @@ class LayerDecimation : public PolygonSink {
   };
 
   static constexpr std::uint32_t kLayersPerPass = 16;
+  static constexpr int kMaxAttempts = 64;  // simplifications of one pass (see pass())
 
   // `downstream` gets the simplified mesh, triangles only; with `send_geometry` each triangle
   // by value too (a renderer's, STL's).
