@@ -130,9 +130,10 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
     decimation.ratio = args.decimate > 0 ? args.decimate : 1.0;
     decimation.max_error_voxels = args.max_error;
     job.decimation = decimation;
-    job.picture.smooth = false;  // flat: gradients are not kept that long either
   }
   job.picture = args.picture.options();
+  // Decimated vertices may leave long after the slices their gradients need: pictures are flat.
+  if (job.decimation) job.picture.smooth = false;
   if (args.max_memory.empty()) {
     job.budget = default_memory_budget();
   } else {

@@ -34,43 +34,22 @@ EdgeSmoothing::EdgeSmoothing(PolygonSink& downstream, const VolumeInfo& volume,
   layers_.emplace_back();
 }
 
-// The engine is built without exceptions: nothing may leave a call it makes. A failure is kept
-// and refused from then on; the caller rethrows thrown().
-Status EdgeSmoothing::guarded(Status (EdgeSmoothing::*step)()) {
-  if (failure_ != Status::ok) return failure_;
-  try {
-    failure_ = (this->*step)();
-  } catch (...) {
-    thrown_ = std::current_exception();
-    failure_ = Status::sink_refused;
-  }
-  return failure_;
-}
-
 Status EdgeSmoothing::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
-  if (failure_ != Status::ok) return failure_;
-  try {
+  return failure_.run([&] {
     Layer& layer = layers_.back();
     layer.vertices.insert(layer.vertices.end(), vertices, vertices + vertex_count);
     for (std::size_t i = 0; i < vertex_count; ++i) layer.current.push_back(along(vertices[i]));
     vertices_taken_ += vertex_count;
-  } catch (...) {
-    thrown_ = std::current_exception();
-    failure_ = Status::sink_refused;
-  }
-  return failure_;
+    return Status::ok;
+  });
 }
 
 Status EdgeSmoothing::consume_polygons(const Polygon* polygons, std::size_t polygon_count) {
-  if (failure_ != Status::ok) return failure_;
-  try {
+  return failure_.run([&] {
     Layer& layer = layers_.back();
     layer.polygons.insert(layer.polygons.end(), polygons, polygons + polygon_count);
-  } catch (...) {
-    thrown_ = std::current_exception();
-    failure_ = Status::sink_refused;
-  }
-  return failure_;
+    return Status::ok;
+  });
 }
 
 std::uint64_t EdgeSmoothing::layer_bytes(std::uint32_t width, std::uint32_t height) {
@@ -80,7 +59,9 @@ std::uint64_t EdgeSmoothing::layer_bytes(std::uint32_t width, std::uint32_t heig
   return edges * (sizeof(Vertex) + 2 * sizeof(float) + sizeof(Polygon));
 }
 
-Status EdgeSmoothing::end_layer() { return guarded(&EdgeSmoothing::arrive); }
+Status EdgeSmoothing::end_layer() {
+  return failure_.run([this] { return arrive(); });
+}
 
 Status EdgeSmoothing::finish() {
   // The engine's closing layer, then as many empty ones as it takes for the last real layer to

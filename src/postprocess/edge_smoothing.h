@@ -28,6 +28,7 @@
 
 #include "mvox/polygon_sink.h"
 #include "mvox/slice_source.h"
+#include "postprocess/stage_failure.h"
 
 namespace mvox {
 
@@ -63,7 +64,7 @@ class EdgeSmoothing : public PolygonSink {
   static std::uint64_t layer_bytes(std::uint32_t width, std::uint32_t height);
 
   // What stopped it: an exception thrown inside (rethrown by the caller) or downstream's status.
-  std::exception_ptr thrown() const { return thrown_; }
+  std::exception_ptr thrown() const { return failure_.thrown(); }
   // The most layers held at once, for memory reports and tests.
   std::size_t most_layers_held() const { return most_layers_held_; }
 
@@ -78,7 +79,6 @@ class EdgeSmoothing : public PolygonSink {
     bool sent = false;
   };
 
-  Status guarded(Status (EdgeSmoothing::*step)());
   Status arrive();  // the newest layer is complete
   void advance(std::size_t layer);
   Status send(std::size_t layer_index);  // sends layers_[layer_index], final
@@ -91,8 +91,7 @@ class EdgeSmoothing : public PolygonSink {
   std::deque<Layer> layers_;  // oldest first; the last is the one arriving
   std::uint64_t vertices_taken_ = 0;
   std::size_t most_layers_held_ = 0;
-  Status failure_ = Status::ok;
-  std::exception_ptr thrown_;
+  StageFailure failure_;
   // Scratch of advance(), kept between calls.
   std::vector<double> around_, sums_, normals_;
   std::vector<float> next_;

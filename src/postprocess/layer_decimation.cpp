@@ -71,40 +71,22 @@ LayerDecimation::LayerDecimation(PolygonSink& downstream, const DecimationOption
                                  bool send_geometry)
     : downstream_(downstream), options_(options), send_geometry_(send_geometry) {}
 
-// The engine is built without exceptions: nothing may leave a call it makes. A failure is kept
-// and refused from then on; the caller rethrows thrown().
-Status LayerDecimation::run(Status (LayerDecimation::*step)()) {
-  if (failure_ != Status::ok) return failure_;
-  try {
-    failure_ = (this->*step)();
-  } catch (...) {
-    thrown_ = std::current_exception();
-    failure_ = Status::sink_refused;
-  }
-  return failure_;
-}
-
 Status LayerDecimation::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
-  // Vertices after polygons start a layer: the one before is complete.
-  if (polygons_since_vertices_) {
-    polygons_since_vertices_ = false;
-    if (const Status status = run(&LayerDecimation::layer_complete); status != Status::ok)
-      return status;
-  }
-  if (failure_ != Status::ok) return failure_;
-  try {
-    for (std::size_t i = 0; i < vertex_count; ++i) vertices_.push_back({vertices[i], -1});
+  return failure_.run([&] {
+    // Vertices after polygons start a layer: the one before is complete.
+    if (polygons_since_vertices_) {
+      polygons_since_vertices_ = false;
+      if (const Status status = layer_complete(); status != Status::ok) return status;
+    }
+    for (std::size_t i = 0; i < vertex_count; ++i)
+      vertices_.emplace(taken_ + i, Held{vertices[i], -1});
     taken_ += vertex_count;
-  } catch (...) {
-    thrown_ = std::current_exception();
-    failure_ = Status::sink_refused;
-  }
-  return failure_;
+    return Status::ok;
+  });
 }
 
 Status LayerDecimation::consume_polygons(const Polygon* polygons, std::size_t polygon_count) {
-  if (failure_ != Status::ok) return failure_;
-  try {
+  return failure_.run([&] {
     polygons_since_vertices_ = true;
     for (std::size_t p = 0; p < polygon_count; ++p) {
       const Polygon& polygon = polygons[p];
@@ -126,11 +108,8 @@ Status LayerDecimation::consume_polygons(const Polygon* polygons, std::size_t po
       new_triangles_ += static_cast<std::uint64_t>(split.count);
     }
     most_triangles_held_ = std::max(most_triangles_held_, triangles_.size());
-  } catch (...) {
-    thrown_ = std::current_exception();
-    failure_ = Status::sink_refused;
-  }
-  return failure_;
+    return Status::ok;
+  });
 }
 
 Status LayerDecimation::layer_complete() {
@@ -142,30 +121,24 @@ Status LayerDecimation::layer_complete() {
 }
 
 Status LayerDecimation::finish() {
-  if (failure_ != Status::ok) return failure_;
-  try {
-    failure_ = pass(true);  // nothing follows: every triangle goes
-  } catch (...) {
-    thrown_ = std::current_exception();
-    failure_ = Status::sink_refused;
-  }
-  return failure_;
+  return failure_.run([this] { return pass(true); });  // nothing follows: every triangle goes
 }
 
 Status LayerDecimation::pass(bool last) {
 #if MVOX_HAVE_MESHOPTIMIZER
   if (!triangles_.empty()) {
     // The held part as meshoptimizer takes it: its vertices numbered from 0, positions packed.
-    std::vector<std::int32_t> local(static_cast<std::size_t>(taken_ - first_held_), -1);
+    std::unordered_map<std::uint64_t, std::int32_t> local;
+    local.reserve(2 * triangles_.size());
     std::vector<float> positions;
     std::vector<std::uint64_t> whole;
     std::vector<unsigned int> indices;
     indices.reserve(3 * triangles_.size());
     for (const Triangle& triangle : triangles_)
       for (const std::uint64_t index : triangle.v) {
-        std::int32_t& id = local[static_cast<std::size_t>(index - first_held_)];
-        if (id < 0) {
-          id = static_cast<std::int32_t>(whole.size());
+        const auto [entry, added] = local.emplace(index, static_cast<std::int32_t>(whole.size()));
+        const std::int32_t id = entry->second;
+        if (added) {
           whole.push_back(index);
           const Vertex& vertex = held(index).vertex;
           positions.insert(positions.end(), {vertex.x, vertex.y, vertex.z});
@@ -223,8 +196,8 @@ Status LayerDecimation::pass(bool last) {
       }
       ++retried_passes_;
       for (const std::uint64_t index : bad) {
-        const std::int32_t id = local[static_cast<std::size_t>(index - first_held_)];
-        if (id >= 0) frozen[static_cast<std::size_t>(id)] = true;
+        const auto entry = local.find(index);
+        if (entry != local.end()) frozen[static_cast<std::size_t>(entry->second)] = true;
       }
     }
   }
@@ -310,19 +283,23 @@ Status LayerDecimation::send(const std::vector<Triangle>& triangles) {
 }
 
 // Vertices no held triangle uses and no later polygon can (older than the newest complete
-// layer) are let go.
+// layer) are let go, wherever they are: a held triangle may join a vertex of an old, locked
+// border to the newest layer pass after pass (a long flat stretch), and keeping every vertex in
+// between made memory grow with the slices.
 void LayerDecimation::forget_unused() {
-  std::uint64_t keep_from = std::min(newest_first_, taken_);
-  for (const Triangle& triangle : triangles_)
-    for (const std::uint64_t index : triangle.v) keep_from = std::min(keep_from, index);
-  while (first_held_ < keep_from && !vertices_.empty()) {
-    vertices_.pop_front();
-    ++first_held_;
-  }
+  std::unordered_set<std::uint64_t> used;
+  used.reserve(3 * triangles_.size());
+  for (const Triangle& triangle : triangles_) used.insert(triangle.v, triangle.v + 3);
+  for (auto vertex = vertices_.begin(); vertex != vertices_.end();)
+    vertex = vertex->first < newest_first_ && used.count(vertex->first) == 0
+                 ? vertices_.erase(vertex)
+                 : std::next(vertex);
   // Sent edges matter while a later triangle could repeat them: both ends still held.
   for (auto edge = sent_edges_.begin(); edge != sent_edges_.end();)
-    edge = edge->from < first_held_ || edge->to < first_held_ ? sent_edges_.erase(edge)
-                                                              : std::next(edge);
+    edge = vertices_.count(edge->from) == 0 || vertices_.count(edge->to) == 0
+               ? sent_edges_.erase(edge)
+               : std::next(edge);
+  most_vertices_held_ = std::max(most_vertices_held_, vertices_.size());
 }
 
 }  // namespace mvox

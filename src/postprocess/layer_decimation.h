@@ -16,13 +16,14 @@
 // (layer_decimation_test checks on phantoms).
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <exception>
 #include <functional>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
 #include "mvox/polygon_sink.h"
+#include "postprocess/stage_failure.h"
 
 namespace mvox {
 
@@ -64,12 +65,14 @@ class LayerDecimation : public PolygonSink {
   // After the last layer: simplifies and sends what is held.
   Status finish();
 
-  std::exception_ptr thrown() const { return thrown_; }
+  std::exception_ptr thrown() const { return failure_.thrown(); }
   std::uint64_t triangles_in() const { return triangles_in_; }
   std::uint64_t triangles_out() const { return triangles_out_; }
   std::uint64_t vertices_out() const { return vertices_out_; }
   // The most triangles held at once, for tests.
   std::size_t most_triangles_held() const { return most_triangles_held_; }
+  // The most vertices held after a pass, for tests.
+  std::size_t most_vertices_held() const { return most_vertices_held_; }
   // Simplifications not taken because they broke the surface (each then run again with the
   // vertices where it broke frozen).
   std::uint64_t retried_passes() const { return retried_passes_; }
@@ -80,7 +83,6 @@ class LayerDecimation : public PolygonSink {
     std::int64_t sent_as = -1;  // its index downstream, once sent
   };
 
-  Status run(Status (LayerDecimation::*step)());
   Status layer_complete();
   Status pass(bool last);
   Status send(const std::vector<Triangle>& triangles);
@@ -88,16 +90,15 @@ class LayerDecimation : public PolygonSink {
   // else false, with the ends of each edge used twice added to `bad`.
   bool manifold_with_sent(const std::vector<Triangle>& triangles,
                           std::vector<std::uint64_t>* bad) const;
-  Held& held(std::uint64_t index) {
-    return vertices_[static_cast<std::size_t>(index - first_held_)];
-  }
+  Held& held(std::uint64_t index) { return vertices_.at(index); }
   void forget_unused();
 
   PolygonSink& downstream_;
   DecimationOptions options_;
   bool send_geometry_;
-  std::deque<Held> vertices_;  // whole indices first_held_ .. taken_ - 1
-  std::uint64_t first_held_ = 0;
+  // By whole index: those held triangles use, and all from the newest complete layer on.
+  std::unordered_map<std::uint64_t, Held> vertices_;
+  std::size_t most_vertices_held_ = 0;
   std::uint64_t taken_ = 0;
   std::uint64_t layer_first_ = 0;   // first vertex of the layer arriving
   std::uint64_t newest_first_ = 0;  // first vertex of the newest complete layer
@@ -122,8 +123,7 @@ class LayerDecimation : public PolygonSink {
   };
   // The directed edges of the triangles sent whose two ends are still held.
   std::unordered_set<DirectedEdge, DirectedEdgeHash> sent_edges_;
-  Status failure_ = Status::ok;
-  std::exception_ptr thrown_;
+  StageFailure failure_;
 };
 
 // Removes the pairs of triangles on the same three vertices wound opposite ways (folds of no

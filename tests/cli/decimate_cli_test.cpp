@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "cli_mesh_checks.h"
 #include "command_runner.h"
 #include "mesh_topology.h"
 #include "obj_reader.h"
@@ -17,18 +18,12 @@
 namespace mvox {
 namespace {
 
+using test::expect_success;
 using test::run_mvox;
 using test::ScratchDirectory;
 
-void make_stack(const ScratchDirectory& dir) {
-  const auto written = run_mvox("phantom blobs -o stack --size 48x44x40 -q", dir.path());
-  ASSERT_EQ(written.exit_code, 0) << written.output;
-}
-
-void expect_success(const std::string& arguments, const ScratchDirectory& dir) {
-  const auto result = run_mvox(arguments, dir.path());
-  EXPECT_EQ(result.exit_code, 0) << arguments << "\n" << result.output;
-}
+// A blobs phantom as an image stack in `dir`/stack.
+void make_stack(const ScratchDirectory& dir) { test::make_phantom_stack(dir, "blobs", "48x44x40"); }
 
 void expect_closed_manifold(const PlyMesh& ply, const std::string& what) {
   const test::Topology topology = test::analyse(test::to_mesh(ply));
@@ -89,6 +84,9 @@ TEST(DecimateCli, ThePictureDrawsItAndThreadsChangeNothing) {
       dir);
   EXPECT_EQ(test::read_file_bytes(dir / "three.ply"), test::read_file_bytes(dir / "one.ply"));
   EXPECT_EQ(test::read_file_bytes(dir / "three.png"), test::read_file_bytes(dir / "one.png"));
+  // Shaded flat: gradients would be read from slices long gone.
+  expect_success("extract stack -t 100 -q --image flat.png --flat --decimate 0.2", dir);
+  EXPECT_EQ(test::read_file_bytes(dir / "flat.png"), test::read_file_bytes(dir / "one.png"));
   expect_success("extract stack -t 100 -q --image full.png --flat", dir);
   EXPECT_NE(test::read_file_bytes(dir / "one.png"), test::read_file_bytes(dir / "full.png"));
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_mesh_checks.h"
 #include "command_runner.h"
 #include "mesh_topology.h"
 #include "obj_reader.h"
@@ -19,6 +20,7 @@ namespace mvox {
 namespace {
 
 using test::expect_one_line_error;
+using test::expect_success;
 using test::run_mvox;
 using test::ScratchDirectory;
 
@@ -30,15 +32,7 @@ std::size_t triangles_of(const PlyMesh& ply) {
 }
 
 // A torus phantom written as an image stack in `dir`/stack.
-void make_stack(const ScratchDirectory& dir) {
-  const auto written = run_mvox("phantom torus -o stack --size 40x36x22 -q", dir.path());
-  ASSERT_EQ(written.exit_code, 0) << written.output;
-}
-
-void expect_success(const std::string& arguments, const ScratchDirectory& dir) {
-  const auto result = run_mvox(arguments, dir.path());
-  EXPECT_EQ(result.exit_code, 0) << arguments << "\n" << result.output;
-}
+void make_stack(const ScratchDirectory& dir) { test::make_phantom_stack(dir, "torus", "40x36x22"); }
 
 TEST(MeshFormatsCli, EveryFormatToAFileAndToStandardOutput) {
   ScratchDirectory dir;

@@ -95,10 +95,10 @@ TEST(SlabThreads, FramesFollowOneEngine) {
   // Frames show the picture slice by slice, as one engine draws it: no slab workers then.
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 41 * 23 * 37, 5);
-  const test::CommandResult plan =
-      run_mvox("extract noise.raw --raw 41x23x37:u8 -t 128 --image p.png --frames f --threads 4 "
-               "--slab-slices 4 --dry-run",
-               dir.path());
+  const test::CommandResult plan = run_mvox(
+      "extract noise.raw --raw 41x23x37:u8 -t 128 --image p.png --frames f --threads 4 "
+      "--slab-slices 4 --dry-run",
+      dir.path());
   ASSERT_EQ(plan.exit_code, 0) << plan.output;
   EXPECT_EQ(plan.output.find("slab workers"), std::string::npos) << plan.output;
   EXPECT_NE(plan.output.find("engine workspace"), std::string::npos) << plan.output;
@@ -135,9 +135,8 @@ TEST(SlabThreads, OneThreadMeansNoReadingAndNoWritingThread) {
 TEST(SlabThreads, ThePlanShowsTheWorkersAndDoesNotGrowWithDepth) {
   test::ScratchDirectory dir;
   auto plan = [&](const std::string& size) {
-    const test::CommandResult result =
-        run_mvox("extract /dev/zero --raw " + size + ":u8 -t 1 -o m.ply --dry-run --threads 2",
-                 dir.path());
+    const test::CommandResult result = run_mvox(
+        "extract /dev/zero --raw " + size + ":u8 -t 1 -o m.ply --dry-run --threads 2", dir.path());
     EXPECT_EQ(result.exit_code, 0) << result.output;
     const std::size_t at = result.output.find("slab workers");
     EXPECT_NE(at, std::string::npos) << result.output;
@@ -190,9 +189,9 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
   test::write_bytes(dir / "noise.mhd",
                     std::string("ObjectType = Image\nNDims = 3\nDimSize = 19 13 29\n"
                                 "ElementType = MET_UCHAR\nElementDataFile = noise.raw\n"));
-  test::write_bytes(dir / "noise.nrrd",
-                    "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 19 13 29\nencoding: raw\n\n" +
-                        noise);
+  test::write_bytes(
+      dir / "noise.nrrd",
+      "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 19 13 29\nencoding: raw\n\n" + noise);
   const std::string inputs[] = {
       "stack -t 100",
       "stack -t 100 --normals",
@@ -205,14 +204,13 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
     for (const bool piped : {false, true}) {
       // A pipe: the same volume through standard input, raw inputs only.
       if (piped && input.rfind("noise.raw", 0) != 0) continue;
-      const std::string command =
-          "extract " + (piped ? "/dev/stdin" + input.substr(9) : input) +
-          " -q --slab-slices 4 -o m.ply --threads ";
+      const std::string command = "extract " + (piped ? "/dev/stdin" + input.substr(9) : input) +
+                                  " -q --slab-slices 4 -o m.ply --threads ";
       SCOPED_TRACE(command + (piped ? " (piped)" : ""));
       std::string reference;
       for (const int threads : {1, 2, 3, 8}) {
-        const test::CommandResult result = run_mvox(command + std::to_string(threads),
-                                                    dir.path(), piped ? "cat noise.raw |" : "");
+        const test::CommandResult result =
+            run_mvox(command + std::to_string(threads), dir.path(), piped ? "cat noise.raw |" : "");
         ASSERT_EQ(result.exit_code, 0) << result.output;
         const std::string bytes = test::read_bytes(dir.path() / "m.ply");
         if (threads == 1) reference = bytes;

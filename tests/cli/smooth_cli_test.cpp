@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "cli_mesh_checks.h"
 #include "command_runner.h"
 #include "mesh_topology.h"
 #include "obj_reader.h"
@@ -20,19 +21,12 @@
 namespace mvox {
 namespace {
 
+using test::expect_success;
 using test::run_mvox;
 using test::ScratchDirectory;
 
 // A torus phantom as an image stack in `dir`/stack: a binary surface, terraced.
-void make_stack(const ScratchDirectory& dir) {
-  const auto written = run_mvox("phantom torus -o stack --size 40x36x22 -q", dir.path());
-  ASSERT_EQ(written.exit_code, 0) << written.output;
-}
-
-void expect_success(const std::string& arguments, const ScratchDirectory& dir) {
-  const auto result = run_mvox(arguments, dir.path());
-  EXPECT_EQ(result.exit_code, 0) << arguments << "\n" << result.output;
-}
+void make_stack(const ScratchDirectory& dir) { test::make_phantom_stack(dir, "torus", "40x36x22"); }
 
 TEST(SmoothCli, EveryFormatHoldsTheSmoothedVerticesAndTheEnginesFaces) {
   ScratchDirectory dir;
@@ -46,19 +40,7 @@ TEST(SmoothCli, EveryFormatHoldsTheSmoothedVerticesAndTheEnginesFaces) {
   ASSERT_GT(smooth.face_count(), 500u);
   EXPECT_EQ(smooth.face_offsets, plain.face_offsets);
   EXPECT_EQ(smooth.face_indices, plain.face_indices);
-  ASSERT_EQ(smooth.vertex_count(), plain.vertex_count());
-  std::size_t moved = 0;
-  for (std::size_t i = 0; i < smooth.vertex_count(); ++i) {
-    int axes = 0;
-    for (int a = 0; a < 3; ++a) {
-      const float shift = smooth.positions[i][a] - plain.positions[i][a];
-      ASSERT_LT(std::fabs(shift), 0.5f) << "vertex " << i;
-      axes += shift != 0.0f;
-    }
-    ASSERT_LE(axes, 1) << "vertex " << i << " left its edge";
-    moved += axes;
-  }
-  EXPECT_GT(moved, smooth.vertex_count() / 2);
+  EXPECT_GT(test::vertices_moved_along_edges(plain, smooth, 0.5f), smooth.vertex_count() / 2);
   const test::Topology topology = test::analyse(test::to_mesh(smooth));
   EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
 

@@ -25,30 +25,6 @@ namespace {
 
 using test::Mesh;
 
-// Collects what the smoothing sends, polygons by value too.
-class Capture : public PolygonSink {
- public:
-  Status consume_vertices(const Vertex* vertices, std::size_t count) override {
-    mesh.vertices.insert(mesh.vertices.end(), vertices, vertices + count);
-    return Status::ok;
-  }
-  Status consume_polygons(const Polygon* polygons, std::size_t count) override {
-    for (std::size_t i = 0; i < count; ++i) {
-      mesh.polygons.emplace_back(polygons[i].vertices,
-                                 polygons[i].vertices + polygons[i].vertex_count);
-      // A polygon refers only to vertices already sent.
-      for (std::uint32_t index : mesh.polygons.back())
-        if (index >= mesh.vertices.size()) ++mesh.forward_references;
-    }
-    return Status::ok;
-  }
-  Status consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) override {
-    geometry.insert(geometry.end(), polygons, polygons + count);
-    return Status::ok;
-  }
-  Mesh mesh;
-  std::vector<PolygonGeometry> geometry;
-};
 
 struct Smoothed {
   Mesh mesh;
@@ -60,7 +36,7 @@ struct Smoothed {
 Smoothed smooth_streamed(SliceSource& source, double threshold, std::uint32_t iterations,
                          bool geometry = false) {
   const VolumeInfo& info = source.info();
-  Capture capture;
+  test::MeshCapture capture;
   EdgeSmoothing smoothing(capture, info, iterations, geometry);
   test::Workspace workspace(engine_workspace_bytes(info.width, info.height, {}));
   Engine engine;

@@ -2,12 +2,13 @@
 // they keep every number through growth from malloc's blocks to mappings and from mapping to
 // larger mapping, grow large arrays without moving their pages by copying, and give memory back
 // when trimmed, and the memory of one array given back serves the next.
+#include "write/mesh/growable_array.h"
+
 #include <gtest/gtest.h>
+#include <sys/mman.h>
 
 #include <cstdint>
 #include <utility>
-
-#include "write/mesh/growable_array.h"
 
 namespace mvox {
 namespace {
@@ -94,6 +95,27 @@ TEST(GrowableArray, TheNextLargeArrayReusesTheMappingOneGaveBack) {
   EXPECT_EQ(next.data(), given_back);
   fill(next, 0, kNumbers);
   EXPECT_TRUE(holds_pattern(next));
+}
+
+// An array that cannot grow in place while a larger mapping is kept must still grow, twice:
+// moving its pages over the start of the kept mapping left two mappings the next mremap could
+// not take whole (std::bad_alloc).
+TEST(GrowableArray, GrowsAgainAfterMovingWhileAMappingIsKept) {
+  GrowableArray<std::uint32_t> array;
+  fill(array, 0, 500000);  // 2 MB: its own mapping
+  {
+    GrowableArray<std::uint32_t> given_back;
+    given_back.reserve(2000000);
+  }  // 8 MB kept
+  // The page after the array taken, so that it cannot grow in place.
+  char* const after =
+      reinterpret_cast<char*>(array.data()) + array.capacity() * sizeof(std::uint32_t);
+  void* const block =
+      ::mmap(after, 4096, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE, -1, 0);
+  fill(array, 500000, 750000);   // 3 MB
+  fill(array, 750000, 2250000);  // 9 MB
+  EXPECT_TRUE(holds_pattern(array));
+  if (block != MAP_FAILED) ::munmap(block, 4096);
 }
 
 }  // namespace

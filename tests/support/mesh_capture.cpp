@@ -28,6 +28,12 @@ Status MeshCapture::consume_polygons(const Polygon* polygons, std::size_t polygo
   return Status::ok;
 }
 
+Status MeshCapture::consume_polygon_geometry(const PolygonGeometry* polygons,
+                                             std::size_t polygon_count) {
+  geometry.insert(geometry.end(), polygons, polygons + polygon_count);
+  return Status::ok;
+}
+
 Mesh extract_slices(const std::vector<SliceView>& slices, std::uint32_t width, std::uint32_t height,
                     double threshold, const EngineOptions& options, EngineCounters* counters) {
   MeshCapture capture;

@@ -20,7 +20,12 @@ class MeshCapture : public PolygonSink {
  public:
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) override;
   Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) override;
+  // Polygons by value, when the source sends them (EngineOptions::polygon_geometry, or a stage
+  // that remakes them).
+  Status consume_polygon_geometry(const PolygonGeometry* polygons,
+                                  std::size_t polygon_count) override;
   Mesh mesh;
+  std::vector<PolygonGeometry> geometry;
   std::size_t vertex_batches = 0;
   std::size_t polygon_batches = 0;
 };

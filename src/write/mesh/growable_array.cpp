@@ -140,23 +140,11 @@ void GrowableBytes::reserve(std::size_t wanted, std::size_t used) {
   }
   const std::size_t bytes = whole_huge_pages(wanted);
   if (mapped) {
-    // In place when the addresses after it are free, else moved to a kept mapping or a fresh
-    // reservation: in no case are the pages it holds copied.
+    // In place when the addresses after it are free, else moved to a fresh reservation: either
+    // way the pages it holds are not copied. (Not into a kept mapping: moving its pages over the
+    // start of one leaves the two apart in the kernel, and the next mremap of the whole range
+    // fails.)
     void* grown = ::mremap(data, capacity, bytes, 0);
-    if (grown == MAP_FAILED) {
-      // Into a kept mapping large enough: its first pages give way to this array's, moved, and
-      // the rest it keeps, already faulted in.
-      const MappingPool::Mapping kept = mapping_pool().take(bytes);
-      if (kept.data != nullptr) {
-        grown = ::mremap(data, capacity, capacity, MREMAP_MAYMOVE | MREMAP_FIXED, kept.data);
-        if (grown != MAP_FAILED) {
-          data = grown;
-          capacity = kept.bytes;
-          return;
-        }
-        mapping_pool().give(kept);
-      }
-    }
     if (grown == MAP_FAILED) {
       char* const destination = aligned_reservation(bytes);
       grown = ::mremap(data, capacity, bytes, MREMAP_MAYMOVE | MREMAP_FIXED, destination);
