@@ -81,7 +81,7 @@ class EdgeInterpolation {
   template <int kType>
   void place_as(Vertex& vertex) const {
     const int axis = static_cast<int>(vertex.axis);
-    float& along = axis == 0 ? vertex.x : axis == 1 ? vertex.y : vertex.z;
+    float& along = along_axis(vertex);
     const float lower = along - 0.5f;  // exact: midpoints are whole numbers plus a half
     if (lower < 0.0f) return;
     const auto x = static_cast<std::uint32_t>(axis == 0 ? lower : vertex.x);

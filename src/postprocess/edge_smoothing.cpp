@@ -11,15 +11,11 @@ constexpr std::size_t kBatch = 4096;  // what goes downstream in one call, at mo
 
 int axis_of(const Vertex& vertex) { return static_cast<int>(vertex.axis); }
 
-float along(const Vertex& vertex) {
-  return vertex.axis == Axis::x ? vertex.x : vertex.axis == Axis::y ? vertex.y : vertex.z;
-}
-
 // The lower voxel centre of the vertex's pair, along its axis. The engine's vertex lies on
 // [lower, lower + 1]: at the midpoint, or interpolated towards the outer voxel, reaching the
 // inner one only when its sample equals the threshold.
 float lower_end(const Vertex& vertex) {
-  const float c = along(vertex);
+  const float c = along_axis(vertex);
   return vertex.inner_is_lower ? std::floor(c) : std::ceil(c) - 1.0f;
 }
 
@@ -38,7 +34,7 @@ Status EdgeSmoothing::consume_vertices(const Vertex* vertices, std::size_t verte
   return failure_.run([&] {
     Layer& layer = layers_.back();
     layer.vertices.insert(layer.vertices.end(), vertices, vertices + vertex_count);
-    for (std::size_t i = 0; i < vertex_count; ++i) layer.current.push_back(along(vertices[i]));
+    for (std::size_t i = 0; i < vertex_count; ++i) layer.current.push_back(along_axis(vertices[i]));
     vertices_taken_ += vertex_count;
     return Status::ok;
   });
@@ -73,16 +69,14 @@ Status EdgeSmoothing::finish() {
 
 Status EdgeSmoothing::arrive() {
   const std::size_t newest = layers_.size() - 1;
-  layers_.back().previous = layers_.back().current;
   // Layer newest - j goes from iteration j - 1 to j, newest first: the layer above it has then
   // reached iteration j - 1 too, and the layer below it still keeps that iteration as
   // `previous`.
   for (std::uint32_t j = 1; j <= iterations_ && j <= newest; ++j) advance(newest - j);
   // The layer below those is final: it leaves, and what it no longer needs goes.
   if (newest >= iterations_ + 1) {
-    const std::size_t final_layer = newest - iterations_ - 1;
-    if (!layers_[final_layer].sent)
-      if (const Status status = send(final_layer); status != Status::ok) return status;
+    // Each layer comes to this place once.
+    if (const Status status = send(newest - iterations_ - 1); status != Status::ok) return status;
     // Kept: the final layer (the next one to leave uses its vertices) and those above.
     while (layers_.size() > iterations_ + 2) layers_.pop_front();
   }
@@ -190,21 +184,16 @@ void EdgeSmoothing::advance(std::size_t layer_index) {
   }
   layer.previous.swap(layer.current);
   layer.current.assign(next_.begin(), next_.end());
-  ++layer.level;
 }
 
 Status EdgeSmoothing::send(std::size_t layer_index) {
-  Layer& layer = layers_[layer_index];
-  layer.sent = true;
+  const Layer& layer = layers_[layer_index];
   const std::size_t count = layer.vertices.size();
   for (std::size_t first = 0; first < count; first += kBatch) {
     const std::size_t end = std::min(count, first + kBatch);
     out_vertices_.assign(layer.vertices.begin() + first, layer.vertices.begin() + end);
     for (std::size_t i = first; i < end; ++i) {
-      Vertex& vertex = out_vertices_[i - first];
-      (vertex.axis == Axis::x   ? vertex.x
-       : vertex.axis == Axis::y ? vertex.y
-                                : vertex.z) = layer.current[i];
+      along_axis(out_vertices_[i - first]) = layer.current[i];
     }
     if (const Status status = downstream_.consume_vertices(out_vertices_.data(), end - first);
         status != Status::ok)
@@ -226,11 +215,8 @@ Status EdgeSmoothing::send(std::size_t layer_index) {
         const std::uint64_t index = whole_vertex_index(polygon.vertices[k], taken);
         const Layer& holder = layers_[layer_of(index, layer_index)];
         const std::size_t i = static_cast<std::size_t>(index - holder.first_vertex);
-        Vertex vertex = holder.vertices[i];
-        (vertex.axis == Axis::x   ? vertex.x
-         : vertex.axis == Axis::y ? vertex.y
-                                  : vertex.z) = holder.current[i];
-        by_value.vertices[k] = vertex;
+        by_value.vertices[k] = holder.vertices[i];
+        along_axis(by_value.vertices[k]) = holder.current[i];
       }
     }
     if (const Status status =

@@ -72,11 +72,9 @@ class EdgeSmoothing : public PolygonSink {
   struct Layer {
     std::uint64_t first_vertex = 0;  // whole index of its first vertex
     std::vector<Vertex> vertices;    // as the engine made them
-    std::vector<float> current;      // each vertex's coordinate along its axis, at `level`
-    std::vector<float> previous;     // the same at level - 1
-    std::uint32_t level = 0;         // iterations done
+    std::vector<float> current;      // each vertex's coordinate along its axis, as smoothed
+    std::vector<float> previous;     // the same one iteration before, once it has advanced
     std::vector<Polygon> polygons;   // the cube layer it completes
-    bool sent = false;
   };
 
   Status arrive();  // the newest layer is complete

@@ -106,7 +106,6 @@ class LayerDecimation : public PolygonSink {
   std::uint32_t layers_held_ = 0;
   std::vector<Triangle> triangles_;  // held
   std::uint64_t new_triangles_ = 0;  // of them, not through a pass yet
-  std::uint64_t sent_vertices_ = 0;
   std::uint64_t triangles_in_ = 0, triangles_out_ = 0, vertices_out_ = 0;
   std::size_t most_triangles_held_ = 0;
   std::uint64_t retried_passes_ = 0;

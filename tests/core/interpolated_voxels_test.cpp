@@ -44,8 +44,6 @@ Volume<float> wavy_volume(std::uint32_t w, std::uint32_t h, std::uint32_t d) {
   return volume;
 }
 
-float along(const Vertex& v) { return v.axis == Axis::x ? v.x : v.axis == Axis::y ? v.y : v.z; }
-
 TEST(InterpolatedVoxels, SamePolygonsEachVertexMovedAlongItsOwnEdgeToTheCrossing) {
   const Volume<float> volume = wavy_volume(23, 17, 13);
   const double threshold = 0.6;
@@ -69,17 +67,18 @@ TEST(InterpolatedVoxels, SamePolygonsEachVertexMovedAlongItsOwnEdgeToTheCrossing
       const float b = other == Axis::x ? v.x : other == Axis::y ? v.y : v.z;
       ASSERT_EQ(a, b) << "vertex " << i;
     }
-    const float lower = along(m) - 0.5f;
+    const float lower = along_axis(m) - 0.5f;
     const std::uint32_t size = m.axis == Axis::x   ? volume.width
                                : m.axis == Axis::y ? volume.height
                                                    : volume.depth;
     if (lower < 0.0f || lower + 1.0f >= static_cast<float>(size)) {
-      EXPECT_EQ(along(v), along(m)) << "vertex " << i << " on the border keeps its midpoint";
+      EXPECT_EQ(along_axis(v), along_axis(m))
+          << "vertex " << i << " on the border keeps its midpoint";
       ++border;
       continue;
     }
-    ASSERT_GE(along(v), lower) << "vertex " << i;
-    ASSERT_LE(along(v), lower + 1.0f) << "vertex " << i;
+    ASSERT_GE(along_axis(v), lower) << "vertex " << i;
+    ASSERT_LE(along_axis(v), lower + 1.0f) << "vertex " << i;
     // There the samples, interpolated linearly between the two voxels, equal the threshold.
     const auto x = static_cast<std::uint32_t>(m.axis == Axis::x ? lower : m.x);
     const auto y = static_cast<std::uint32_t>(m.axis == Axis::y ? lower : m.y);
@@ -87,7 +86,7 @@ TEST(InterpolatedVoxels, SamePolygonsEachVertexMovedAlongItsOwnEdgeToTheCrossing
     const float a = volume.at(x, y, z);
     const float b =
         volume.at(x + (m.axis == Axis::x), y + (m.axis == Axis::y), z + (m.axis == Axis::z));
-    const float t = along(v) - lower;
+    const float t = along_axis(v) - lower;
     // 0.01 voxel short of either voxel centre at most (engine.h), else where they cross.
     const float crossing = (static_cast<float>(threshold) - a) / (b - a);
     if (crossing > 0.01f && crossing < 0.99f)
@@ -200,7 +199,7 @@ TEST(InterpolatedVoxels, PolygonsSentByValueUseTheMovedVertices) {
         const Vertex& indexed = capture.vertices[polygon.vertices[k]];
         ASSERT_TRUE(test::same_position(by_value.vertices[k], indexed))
             << "polygon " << p << " corner " << k;
-        moved += std::fmod(along(indexed), 1.0f) != 0.5f;
+        moved += std::fmod(along_axis(indexed), 1.0f) != 0.5f;
       }
     }
     EXPECT_GT(moved, 100u) << "the case must move vertices off their midpoints";
@@ -222,7 +221,7 @@ TEST(InterpolatedVoxels, ASampleAtTheThresholdKeepsTheVertexOffTheVoxelCentre) {
     int whole = 0;
     for (const float c : {v.x, v.y, v.z}) whole += c == std::floor(c);
     ASSERT_EQ(whole, 2) << v.x << "," << v.y << "," << v.z;
-    const float fraction = along(v) - std::floor(along(v));
+    const float fraction = along_axis(v) - std::floor(along_axis(v));
     at_margin += std::fabs(fraction - 0.01f) < 1e-4f || std::fabs(fraction - 0.99f) < 1e-4f;
   }
   EXPECT_GT(at_margin, 10u);

@@ -25,7 +25,6 @@ namespace {
 
 using test::Mesh;
 
-
 struct Smoothed {
   Mesh mesh;
   std::vector<PolygonGeometry> geometry;
@@ -35,22 +34,13 @@ struct Smoothed {
 // The engine's mesh of `source`, through EdgeSmoothing as the pipeline runs it.
 Smoothed smooth_streamed(SliceSource& source, double threshold, std::uint32_t iterations,
                          bool geometry = false) {
-  const VolumeInfo& info = source.info();
   test::MeshCapture capture;
-  EdgeSmoothing smoothing(capture, info, iterations, geometry);
-  test::Workspace workspace(engine_workspace_bytes(info.width, info.height, {}));
-  Engine engine;
-  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, {},
-                        &smoothing),
-            Status::ok);
+  EdgeSmoothing smoothing(capture, source.info(), iterations, geometry);
   auto layer_done = [&](std::uint32_t) { EXPECT_EQ(smoothing.end_layer(), Status::ok); };
-  EXPECT_EQ(stream_volume(source, engine, SliceProgress::of(layer_done)), Status::ok);
+  test::stream_into(source, threshold, smoothing, {}, SliceProgress::of(layer_done));
   EXPECT_EQ(smoothing.finish(), Status::ok);
   return {capture.mesh, capture.geometry, smoothing.most_layers_held()};
 }
-
-float& along(Vertex& v) { return v.axis == Axis::x ? v.x : v.axis == Axis::y ? v.y : v.z; }
-float along(const Vertex& v) { return v.axis == Axis::x ? v.x : v.axis == Axis::y ? v.y : v.z; }
 
 // The same iterations on the whole mesh at once: the scheme of edge_smoothing.h written
 // plainly, with the same arithmetic (positions kept as floats between iterations, each
@@ -91,7 +81,8 @@ Mesh smooth_whole(Mesh mesh, const VolumeInfo& volume, std::uint32_t iterations)
     for (std::size_t i = 0; i < count; ++i) {
       const Vertex& v = mesh.vertices[i];
       const int axis = static_cast<int>(v.axis);
-      const float lower = v.inner_is_lower ? std::floor(along(v)) : std::ceil(along(v)) - 1.0f;
+      const float lower =
+          v.inner_is_lower ? std::floor(along_axis(v)) : std::ceil(along_axis(v)) - 1.0f;
       if (lower < 0.0f || lower + 1.0f >= static_cast<float>(size[axis]) || counts[i] == 0)
         continue;
       const double* nv = &normals[3 * i];
@@ -104,7 +95,7 @@ Mesh smooth_whole(Mesh mesh, const VolumeInfo& volume, std::uint32_t iterations)
       if (std::fabs(axis_normal) < EdgeSmoothing::kMinAxisNormal)
         axis_normal = std::copysign(EdgeSmoothing::kMinAxisNormal, axis_normal);
       const double moved = p[axis] + EdgeSmoothing::kStep * across / axis_normal;
-      along(next[i]) =
+      along_axis(next[i]) =
           static_cast<float>(std::clamp(moved, double{lower + EdgeSmoothing::kMargin},
                                         double{lower + 1.0f - EdgeSmoothing::kMargin}));
     }
@@ -182,13 +173,13 @@ TEST(EdgeSmoothing, VerticesStayOnTheirEdgesAndTheSurfaceStaysClosed) {
     const int axis = static_cast<int>(before.axis);
     for (int d = 0; d < 3; ++d)
       if (d != axis) ASSERT_EQ((&after.x)[d], (&before.x)[d]) << "vertex " << i;
-    const float lower = along(before) - 0.5f;
+    const float lower = along_axis(before) - 0.5f;
     if (lower < 0 || lower + 1 >= size[axis]) {
-      EXPECT_EQ(along(after), along(before)) << "vertex " << i << " on the border stays";
+      EXPECT_EQ(along_axis(after), along_axis(before)) << "vertex " << i << " on the border stays";
       continue;
     }
-    ASSERT_GE(along(after), lower + EdgeSmoothing::kMargin * 0.999f) << "vertex " << i;
-    ASSERT_LE(along(after), lower + 1 - EdgeSmoothing::kMargin * 0.999f) << "vertex " << i;
+    ASSERT_GE(along_axis(after), lower + EdgeSmoothing::kMargin * 0.999f) << "vertex " << i;
+    ASSERT_LE(along_axis(after), lower + 1 - EdgeSmoothing::kMargin * 0.999f) << "vertex " << i;
   }
   const test::Topology topology = test::analyse(smoothed.mesh);
   EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);

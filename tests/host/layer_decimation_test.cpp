@@ -37,15 +37,9 @@ struct Decimated {
 
 Decimated decimate(SliceSource& source, double threshold, const DecimationOptions& options,
                    bool geometry = false) {
-  const VolumeInfo& info = source.info();
   test::MeshCapture capture;
   LayerDecimation decimation(capture, options, geometry);
-  test::Workspace workspace(engine_workspace_bytes(info.width, info.height, {}));
-  Engine engine;
-  EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold, {},
-                        &decimation),
-            Status::ok);
-  EXPECT_EQ(stream_volume(source, engine), Status::ok);
+  test::stream_into(source, threshold, decimation);
   EXPECT_EQ(decimation.finish(), Status::ok);
   EXPECT_EQ(decimation.triangles_out(), capture.mesh.polygons.size());
   EXPECT_EQ(decimation.vertices_out(), capture.mesh.vertices.size());

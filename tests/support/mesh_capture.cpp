@@ -68,17 +68,23 @@ template Mesh extract(const Volume<std::uint16_t>&, double, const EngineOptions&
 template Mesh extract(const Volume<std::int16_t>&, double, const EngineOptions&, EngineCounters*);
 template Mesh extract(const Volume<float>&, double, const EngineOptions&, EngineCounters*);
 
-Mesh extract(SliceSource& source, double threshold, const EngineOptions& options,
-             EngineCounters* counters) {
-  MeshCapture capture;
+EngineCounters stream_into(SliceSource& source, double threshold, PolygonSink& sink,
+                           const EngineOptions& options, SliceProgress progress) {
   const VolumeInfo& info = source.info();
   Workspace workspace(engine_workspace_bytes(info.width, info.height, options));
   Engine engine;
   EXPECT_EQ(engine.init(workspace.data(), workspace.bytes(), info.width, info.height, threshold,
-                        options, &capture),
+                        options, &sink),
             Status::ok);
-  EXPECT_EQ(stream_volume(source, engine), Status::ok);
-  if (counters) *counters = engine.counters();
+  EXPECT_EQ(stream_volume(source, engine, progress), Status::ok);
+  return engine.counters();
+}
+
+Mesh extract(SliceSource& source, double threshold, const EngineOptions& options,
+             EngineCounters* counters) {
+  MeshCapture capture;
+  const EngineCounters engine_counters = stream_into(source, threshold, capture, options);
+  if (counters) *counters = engine_counters;
   return std::move(capture.mesh);
 }
 

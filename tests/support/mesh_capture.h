@@ -6,6 +6,7 @@
 
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
+#include "mvox/stream_volume.h"
 #include "mvox/workspace_buffer.h"
 
 namespace mvox::test {
@@ -56,6 +57,11 @@ Mesh extract(const Volume<Sample>& volume, double threshold, const EngineOptions
 
 Mesh extract(SliceSource& source, double threshold, const EngineOptions& options = {},
              EngineCounters* counters = nullptr);
+
+// Streams `source` through a new engine into `sink` (stream_volume), `progress` told after each
+// slice; returns the engine's counters. Fails the current test on any engine error.
+EngineCounters stream_into(SliceSource& source, double threshold, PolygonSink& sink,
+                           const EngineOptions& options = {}, SliceProgress progress = {});
 
 // Extracts the surface of the given slices, pushed in order, all `width` x `height`.
 Mesh extract_slices(const std::vector<SliceView>& slices, std::uint32_t width, std::uint32_t height,

@@ -40,6 +40,15 @@ struct Vertex {
   bool inner_is_lower = false;
 };
 
+// The coordinate of `vertex` along its voxel pair's axis: the one that interpolation and
+// smoothing move (the other two are the pair's own, whole numbers).
+constexpr float& along_axis(Vertex& vertex) {
+  return vertex.axis == Axis::x ? vertex.x : vertex.axis == Axis::y ? vertex.y : vertex.z;
+}
+constexpr float along_axis(const Vertex& vertex) {
+  return vertex.axis == Axis::x ? vertex.x : vertex.axis == Axis::y ? vertex.y : vertex.z;
+}
+
 // Vertex indices wound counter-clockwise seen from outside (outward normal by the right-hand
 // rule, from inner to outer). Every index was emitted in a vertex batch before this polygon.
 struct Polygon {
