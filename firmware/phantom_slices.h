@@ -4,9 +4,9 @@
 // its slice buffer with std::vector and reports bad options by throwing, neither of which the
 // board has; this source takes a static buffer instead and handles 8-bit samples only.
 //
-// Samples are what SimulatedScanner records with default_scan_options(SampleType::u8) and
-// partial_volume = true, as `mvox demo` scans: round(255 * partial_volume_density), clamped to
-// 0 .. 255 (sim::sample_value).
+// Samples are what SimulatedScanner records with default_scan_options(SampleType::u8),
+// partial_volume = true and no point-spread blur: round(255 * partial_volume_density), clamped
+// to 0 .. 255 (sim::sample_value).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -38,7 +38,7 @@ class PhantomSlices final : public SliceSource {
     std::uint8_t* out = buffer_;
     for (std::uint32_t y = 0; y < info_.height; ++y)
       for (std::uint32_t x = 0; x < info_.width; ++x)
-        *out++ = sample(phantom_.partial_volume_density(x, y, next_z_));
+        *out++ = sample(phantom_.partial_volume_density(x, y, next_z_, 0.0));
     ++next_z_;
     slice->samples = buffer_;
     slice->width = info_.width;

@@ -33,8 +33,9 @@ for placement in midpoints interpolated smoothed decimated; do
     --view -30,-10,180 --image-size $size -q
 done
 rm -rf "$tmp_meshes"
-# The demo phantom (no data needed): mvox demo writes demo.ply and demo.png.
+# The demo phantom (no data needed): mvox demo writes demo.ply and demo.png, by default a
+# cutaway (--view -30,55 --cut 0.45) that shows the bright ellipsoids inside the skull.
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-(cd "$tmp" && "$mvox" demo -q --image "$out/demo.png" --image-size $size --view 20,20)
+(cd "$tmp" && "$mvox" demo -q --image "$out/demo.png" --image-size $size)
 ls -l "$out"

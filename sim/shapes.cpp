@@ -36,8 +36,10 @@ float Sphere::density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
   return distance_squared(centre_, x, y, z) <= radius_squared_ ? 1.0f : 0.0f;
 }
 
-float Sphere::partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
-  return boundary_ramp(std::sqrt(radius_squared_) - std::sqrt(distance_squared(centre_, x, y, z)));
+float Sphere::partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                                     double psf_sigma) const {
+  return boundary_ramp(std::sqrt(radius_squared_) - std::sqrt(distance_squared(centre_, x, y, z)),
+                       psf_sigma);
 }
 
 Torus::Torus(Grid grid, Point3 centre, double major_radius, double minor_radius)
@@ -58,13 +60,14 @@ float Torus::density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
   return from_ring * from_ring + dz * dz <= minor_radius_squared_ ? 1.0f : 0.0f;
 }
 
-float Torus::partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
+float Torus::partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                                    double psf_sigma) const {
   const double dx = x - centre_.x;
   const double dy = y - centre_.y;
   const double dz = z - centre_.z;
   const double from_ring = std::sqrt(dx * dx + dy * dy) - major_radius_;
   return boundary_ramp(std::sqrt(minor_radius_squared_) -
-                       std::sqrt(from_ring * from_ring + dz * dz));
+                       std::sqrt(from_ring * from_ring + dz * dz), psf_sigma);
 }
 
 NestedShells::NestedShells(Grid grid, Point3 centre, std::vector<double> radii)
@@ -92,14 +95,14 @@ float NestedShells::density(std::uint32_t x, std::uint32_t y, std::uint32_t z) c
   return containing % 2 == 1 ? 1.0f : 0.0f;
 }
 
-float NestedShells::partial_volume_density(std::uint32_t x, std::uint32_t y,
-                                           std::uint32_t z) const {
+float NestedShells::partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                                           double psf_sigma) const {
   // Inside the outermost sphere adds 1, inside the next takes it away, and so on: the same
   // alternation as density(), each boundary ramped.
   const double d = std::sqrt(distance_squared(centre_, x, y, z));
   float sum = 0.0f;
   for (std::size_t i = 0; i < radii_squared_.size(); ++i) {
-    const float ramp = boundary_ramp(std::sqrt(radii_squared_[i]) - d);
+    const float ramp = boundary_ramp(std::sqrt(radii_squared_[i]) - d, psf_sigma);
     sum += i % 2 == 0 ? ramp : -ramp;
   }
   return sum;

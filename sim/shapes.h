@@ -15,7 +15,8 @@ class Sphere final : public Phantom {
   Sphere(Grid grid, Point3 centre, double radius);
   Grid grid() const override { return grid_; }
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
-  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                               double psf_sigma) const override;
   const char* name() const override { return "sphere"; }
 
  private:
@@ -32,7 +33,8 @@ class Torus final : public Phantom {
   Torus(Grid grid, Point3 centre, double major_radius, double minor_radius);
   Grid grid() const override { return grid_; }
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
-  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                               double psf_sigma) const override;
   const char* name() const override { return "torus"; }
 
  private:
@@ -52,7 +54,8 @@ class NestedShells final : public Phantom {
   NestedShells(Grid grid, Point3 centre, std::vector<double> radii);
   Grid grid() const override { return grid_; }
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
-  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                               double psf_sigma) const override;
   const char* name() const override { return "shells"; }
 
  private:

@@ -1,5 +1,6 @@
 #include "shepp_logan.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mvox::sim {
@@ -45,9 +46,15 @@ SheppLogan3D::SheppLogan3D(Grid grid) : grid_(grid) {
   for (int i = 0; i < kSheppLoganEllipsoidCount; ++i) {
     const SheppLoganEllipsoid& e = kModifiedSheppLogan[i];
     const double angle = e.rotation_z_degrees * kPi / 180.0;
+    // In voxels, a lower bound whatever the turn about z (the x and y voxel sizes may differ).
+    const double coarsest_xy = 2.0 / std::min(grid.width, grid.height);
+    const double smallest_semi_axis_voxels =
+        std::min(std::min(e.semi_axis_x, e.semi_axis_y) / coarsest_xy,
+                 e.semi_axis_z * grid.depth / 2.0);
     ellipsoids_[i] = {e.intensity,         1.0 / e.semi_axis_x, 1.0 / e.semi_axis_y,
                       1.0 / e.semi_axis_z, e.centre_x,          e.centre_y,
-                      e.centre_z,          std::cos(angle),     std::sin(angle)};
+                      e.centre_z,          std::cos(angle),     std::sin(angle),
+                      smallest_semi_axis_voxels};
   }
 }
 
@@ -69,8 +76,8 @@ float SheppLogan3D::density(std::uint32_t x, std::uint32_t y, std::uint32_t z) c
   return static_cast<float>(sum);
 }
 
-float SheppLogan3D::partial_volume_density(std::uint32_t x, std::uint32_t y,
-                                           std::uint32_t z) const {
+float SheppLogan3D::partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                                           double psf_sigma) const {
   const double px = normalised(x, grid_.width);
   const double py = -normalised(y, grid_.height);
   const double pz = normalised(z, grid_.depth);
@@ -86,13 +93,15 @@ float SheppLogan3D::partial_volume_density(std::uint32_t x, std::uint32_t y,
     const double v = (dy * e.cos_rotation - dx * e.sin_rotation) * e.inv_axis_y;
     const double w = dz * e.inv_axis_z;
     const double q = std::sqrt(u * u + v * v + w * w);  // 1 on the surface
-    if (q >= 2.0) continue;                             // far outside: nothing to add
+    // Far outside: the point is at least q times the smallest semi-axis from the centre, so for
+    // q >= 2 the surface is at least that far away; nothing to add once it is past the ramp.
+    if (q >= 2.0 && q * e.smallest_semi_axis_voxels >= 2.0 * boundary_reach(psf_sigma)) continue;
     // From the centre to the point in voxels; the surface lies at that length / q.
     const double length =
         std::sqrt((dx / voxel_x) * (dx / voxel_x) + (dy / voxel_y) * (dy / voxel_y) +
                   (dz / voxel_z) * (dz / voxel_z));
     const double inside = q > 0.0 ? length * (1.0 / q - 1.0) : 1.0;
-    sum += e.intensity * boundary_ramp(inside);
+    sum += e.intensity * boundary_ramp(inside, psf_sigma);
   }
   return static_cast<float>(sum);
 }

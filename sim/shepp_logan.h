@@ -32,7 +32,8 @@ class SheppLogan3D final : public Phantom {
   float density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
   // Each ellipsoid's intensity times its ramp; the distance to an ellipsoid's surface is taken
   // along the ray from its centre (exact for spheres, close for these gentle ellipsoids).
-  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z) const override;
+  float partial_volume_density(std::uint32_t x, std::uint32_t y, std::uint32_t z,
+                               double psf_sigma) const override;
   const char* name() const override { return "shepp-logan"; }
 
  private:
@@ -41,6 +42,7 @@ class SheppLogan3D final : public Phantom {
     double inv_axis_x, inv_axis_y, inv_axis_z;
     double centre_x, centre_y, centre_z;
     double cos_rotation, sin_rotation;
+    double smallest_semi_axis_voxels;  // partial_volume_density()'s early exit
   };
   Grid grid_;
   Prepared ellipsoids_[kSheppLoganEllipsoidCount];

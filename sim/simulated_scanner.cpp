@@ -37,7 +37,7 @@ void fill_slice(const Phantom& phantom, std::uint32_t z, const ScanOptions& opti
   const Grid grid = phantom.grid();
   for (std::uint32_t y = 0; y < grid.height; ++y) {
     for (std::uint32_t x = 0; x < grid.width; ++x) {
-      const float density = options.partial_volume ? phantom.partial_volume_density(x, y, z)
+      const float density = options.partial_volume ? phantom.partial_volume_density(x, y, z, options.psf_sigma)
                                                    : phantom.density(x, y, z);
       const T sample = static_cast<T>(sample_value(density, options));
       std::memcpy(out, &sample, sizeof(T));
@@ -98,6 +98,9 @@ double sample_threshold(double density_threshold, const ScanOptions& options) {
 SimulatedScanner::SimulatedScanner(const Phantom& phantom, const ScanOptions& options)
     : phantom_(&phantom), options_(options) {
   check_positive(options.scale, "scale");
+  if (!(options.psf_sigma >= 0) || !std::isfinite(options.psf_sigma))
+    throw std::invalid_argument("simulated scanner: psf_sigma must be finite and >= 0, got " +
+                                std::to_string(options.psf_sigma));
   if (!std::isfinite(options.offset)) {
     throw std::invalid_argument("simulated scanner: offset must be finite");
   }

@@ -16,10 +16,15 @@ struct ScanOptions {
   double offset = 0;
   double spacing[3] = {1, 1, 1};  // voxel size along x, y, z, > 0; copied to VolumeInfo
   double origin[3] = {0, 0, 0};   // position of voxel (0, 0, 0); copied to VolumeInfo
-  // Record Phantom::partial_volume_density() instead of density(): edges blurred over a voxel
-  // as in a real scan, which gradient normals need to look smooth. Off by default: the
-  // exact-count tests want the phantom's own voxels.
+  // Record Phantom::partial_volume_density() instead of density(): edges blurred as in a real
+  // scan, which gradient normals need to look smooth. Off by default: the exact-count tests
+  // want the phantom's own voxels.
   bool partial_volume = false;
+  // With partial_volume: a Gaussian point-spread function of this many voxels (>= 0) blurs the
+  // one-voxel partial-volume ramp, as every scanner does; gradient normals need it to be free of
+  // terrace rings where a surface runs almost along the voxel grid (mvox demo scans with 1).
+  // 0: the ramp alone.
+  double psf_sigma = 0;
 };
 
 // Options that use most of each type's range for densities in [0, 1]:

@@ -37,14 +37,15 @@ Camera fit_camera(const glm::vec3& box_min, const glm::vec3& box_max, const View
   glm::mat4 view_matrix(camera.world_to_view);  // rotation about the box centre
   view_matrix = view_matrix * glm::translate(glm::mat4(1.0f), -centre);
 
+  // Extents of the eight rotated corners: the projection of the box, and its depth.
+  glm::vec3 extent(0.0f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p((corner & 1) ? box_max.x : box_min.x, (corner & 2) ? box_max.y : box_min.y,
+                      (corner & 4) ? box_max.z : box_min.z);
+    extent = glm::max(extent, glm::abs(camera.world_to_view * (p - centre)));
+  }
+
   if (!view.perspective) {
-    // Extents of the eight rotated corners: the projection of the box.
-    glm::vec3 extent(0.0f);
-    for (int corner = 0; corner < 8; ++corner) {
-      const glm::vec3 p((corner & 1) ? box_max.x : box_min.x, (corner & 2) ? box_max.y : box_min.y,
-                        (corner & 4) ? box_max.z : box_min.z);
-      extent = glm::max(extent, glm::abs(camera.world_to_view * (p - centre)));
-    }
     // Half the image height in world units, so that both extents fit.
     float half_height = std::max(extent.y, extent.x / aspect) / fill;
     if (!(half_height > 0.0f)) half_height = 1.0f;
@@ -52,21 +53,29 @@ Camera fit_camera(const glm::vec3& box_min, const glm::vec3& box_max, const View
     camera.world_to_clip = glm::ortho(-half_height * aspect, half_height * aspect, -half_height,
                                       half_height, -depth, depth) *
                            view_matrix;
-    return camera;
+  } else {
+    float radius = 0.5f * glm::length(box_max - box_min);
+    if (!(radius > 0.0f)) radius = 1.0f;
+    const float fov = glm::radians(std::clamp(view.field_of_view_deg, 1.0f, 170.0f));
+    // The sphere fits when its angular radius is half the (narrower) field of view, shrunk by
+    // the margin.
+    const float half_fov = std::atan(std::tan(0.5f * fov) * std::min(1.0f, aspect) * fill);
+    const float distance = radius / std::sin(half_fov);
+    const glm::mat4 back_off = glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, -distance));
+    const float near_plane = std::max(distance - radius * 1.01f, distance * 1e-3f);
+    const float far_plane = distance + radius * 1.01f;
+    camera.world_to_clip =
+        glm::perspective(fov, aspect, near_plane, far_plane) * back_off * view_matrix;
   }
-
-  float radius = 0.5f * glm::length(box_max - box_min);
-  if (!(radius > 0.0f)) radius = 1.0f;
-  const float fov = glm::radians(std::clamp(view.field_of_view_deg, 1.0f, 170.0f));
-  // The sphere fits when its angular radius is half the (narrower) field of view, shrunk by the
-  // margin.
-  const float half_fov = std::atan(std::tan(0.5f * fov) * std::min(1.0f, aspect) * fill);
-  const float distance = radius / std::sin(half_fov);
-  const glm::mat4 back_off = glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, -distance));
-  const float near_plane = std::max(distance - radius * 1.01f, distance * 1e-3f);
-  const float far_plane = distance + radius * 1.01f;
-  camera.world_to_clip =
-      glm::perspective(fov, aspect, near_plane, far_plane) * back_off * view_matrix;
+  if (view.cut > 0.0f) {
+    // The plane `cut` of the way from the box's nearest corner to its farthest (view space looks
+    // along -z, so the nearest corner is at +extent.z), projected like any point.
+    const float plane_z = extent.z * (1.0f - 2.0f * std::min(view.cut, 1.0f));
+    const glm::vec3 on_plane = centre + glm::transpose(camera.world_to_view) * glm::vec3(0, 0, plane_z);
+    const glm::vec4 clip = camera.world_to_clip * glm::vec4(on_plane, 1.0f);
+    // Above 0, so that a cut always reads as one, even at the box's very front.
+    camera.cut_depth = std::max(0.5f * (clip.z / clip.w + 1.0f), 1e-7f);
+  }
   return camera;
 }
 

@@ -80,6 +80,8 @@ Status ZBufferRenderer::init(void* workspace, std::size_t workspace_bytes, const
   height_ = camera.height;
   camera_ = camera;
   lighting_ = lighting;
+  cut_depth_ = camera.cut_depth > 0.0f ? camera.cut_depth : 0.0f;  // NaN: no cut
+  caps_ = cut_depth_ > 0.0f && lighting.cull_back_faces;
   depth_ = static_cast<float*>(workspace);
   // Floats first, then the fragments (4-byte aligned after them), then the bytes of shade.
   fragments_ = reinterpret_cast<Fragment*>(depth_ + std::size_t{width_} * height_);
@@ -245,6 +247,13 @@ void ZBufferRenderer::shade_pixel(std::uint32_t pixel, float depth, const glm::v
   shade_[pixel] = shade_of_cosine_[static_cast<int>(cosine * (kShadeLevels - 1) + 0.5f)];
 }
 
+void ZBufferRenderer::cap_pixel(std::uint32_t pixel, float depth) {
+  ++counters_.fragments_written;
+  depth_[pixel] = depth;
+  if (tags_) tags_[pixel] = tag_;
+  shade_[pixel] = lighting_.cap;
+}
+
 void ZBufferRenderer::draw_projected(const glm::vec3* normals) {
   const int count = projected_count_;
   projected_count_ = 0;
@@ -261,6 +270,10 @@ void ZBufferRenderer::draw_projected(const glm::vec3* normals) {
       for (std::size_t f = 0; f < fragment_count_; ++f) {
         const Fragment& fragment = fragments_[f];
         if (!(fragment.depth < depth_[fragment.pixel])) continue;
+        if (fragment.cap) {
+          cap_pixel(fragment.pixel, fragment.depth);
+          continue;
+        }
         const glm::vec3 n = normal_0 +
                             fragment.weight_1 * (projected_[fragment.vertex_1].normal - normal_0) +
                             fragment.weight_2 * (projected_[fragment.vertex_2].normal - normal_0);
@@ -289,8 +302,10 @@ bool ZBufferRenderer::draw_triangle(int i1, int i2) {
   // seen (y up: it faces the viewer) turns clockwise when y points down, which makes this
   // negative. Edge functions below want it positive: front faces are drawn as (v0, v2, v1).
   std::int64_t area = (v1->x - v0->x) * (v2->y - v0->y) - (v1->y - v0->y) * (v2->x - v0->x);
+  // Facing away on a closed surface under a cutaway: drawn, as the cap over the cut.
+  const bool cap = area > 0 && caps_;
   if (area >= 0) {  // facing away, or edge-on
-    if (area == 0 || lighting_.cull_back_faces) {
+    if (area == 0 || (lighting_.cull_back_faces && !cap)) {
       if constexpr (!write) ++projected_culled_;  // counted once, when projected
       return false;
     }
@@ -339,7 +354,8 @@ bool ZBufferRenderer::draw_triangle(int i1, int i2) {
         const float l2 = static_cast<float>(w2 - e2.bias) * inverse_area;
         const float depth = v0->depth + l1 * depth_1 + l2 * depth_2;
         const auto pixel = static_cast<std::uint32_t>(row_start + static_cast<std::size_t>(px));
-        const bool nearer = depth < depth_[pixel] && depth >= 0.0f && depth <= 1.0f;
+        const bool nearer =
+            depth < depth_[pixel] && depth >= cut_depth_ && depth >= 0.0f && depth <= 1.0f;
         if constexpr (!write) {
           ++projected_covered_;
           if (nearer) {
@@ -350,13 +366,17 @@ bool ZBufferRenderer::draw_triangle(int i1, int i2) {
                                                l1,
                                                l2,
                                                static_cast<std::uint8_t>(i1),
-                                               static_cast<std::uint8_t>(i2)};
+                                               static_cast<std::uint8_t>(i2),
+                                               cap};
             else
               fragments_overflowed_ = true;
           }
         } else if (nearer) {
           any_nearer = true;
-          shade_pixel(pixel, depth, v0->normal + l1 * normal_1 + l2 * normal_2);
+          if (cap)
+            cap_pixel(pixel, depth);
+          else
+            shade_pixel(pixel, depth, v0->normal + l1 * normal_1 + l2 * normal_2);
         }
       }
       w0 += e0.step_x;

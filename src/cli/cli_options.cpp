@@ -190,6 +190,16 @@ void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse us
       ->capture_default_str();
   command.add_flag("--flat", choice.flat,
                    "Shade each polygon flat instead of with smooth gradient normals");
+  command
+      .add_option("--cut", choice.cut,
+                  extraction
+                      ? "Cutaway: cut away the nearest FRACTION of the volume's depth along the "
+                        "view (0.5: through the centre) to show what lies inside; where the "
+                        "plane cuts through the surface it is capped in flat grey. 0: no cut"
+                      : "Cutaway: cut away the nearest FRACTION of the mesh's depth along the view "
+                        "(0.5: through the centre); with --cull, where the plane cuts through the "
+                        "(closed) surface it is capped in flat grey. 0: no cut")
+      ->check(number_from(0, 1));
   if (!extraction) return;
   command.add_option("--frames", choice.frames_dir,
                      "Also write the picture so far into this directory every --every slices "
@@ -215,6 +225,7 @@ PictureOptions PictureChoice::options() const {
   if (view.size() == 3) result.view.roll_deg = view[2];
   result.view.perspective = perspective;
   result.view.field_of_view_deg = field_of_view_deg;
+  result.view.cut = cut;
   result.smooth = !flat;
   result.frames_dir = frames_dir;
   result.every = every;

@@ -51,7 +51,7 @@ void add_mesh_options(CLI::App& command, MeshChoice& choice);
 MeshWriterOptions mesh_writer_options(const MeshChoice& choice, const VolumeInfo& input,
                                       const std::string& input_label, const std::string& comment);
 
-// The picture options: --image, --size, --view, --perspective, --fov, --flat, and for
+// The picture options: --image, --size, --view, --perspective, --fov, --flat, --cut, and for
 // extraction also --frames, --every and --show.
 struct PictureChoice {
   std::string image;
@@ -60,6 +60,7 @@ struct PictureChoice {
   bool perspective = false;
   float field_of_view_deg = 30;
   bool flat = false;
+  float cut = 0;  // the cutaway, a fraction of the depth along the view (0: none)
   std::string frames_dir;
   std::uint32_t every = 10;
   bool show = false;

@@ -48,6 +48,8 @@ TEST_F(BadInput, NumbersOutsideTheirRangeAreUsageErrors) {
   for (const char* view : {"nan,0", "0,nan", "0,0,nan", "inf,0", "0,-inf"})
     expect_refused(job + " --view " + view, "--view", "must be a number from -360 to 360, got ", 2);
   expect_refused(job + " --fov nan", "--fov", "must be a number from 1 to 170, got nan", 2);
+  for (const char* cut : {"nan", "-0.1", "1.5", "inf"})
+    expect_refused(job + " --cut " + cut, "--cut", "must be a number from 0 to 1, got ", 2);
   expect_refused(job + " --perspective --fov inf", "--fov", "from 1 to 170, got inf", 2);
   expect_refused(job + " --image-size 1e3", "--image-size", "'1e3' is not a picture size", 2);
   expect_refused(job + " --image-size 4294967808", "--image-size",

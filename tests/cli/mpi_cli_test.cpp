@@ -91,7 +91,8 @@ TEST(MpiRanks, ThePictureIsTheSameBytesAsOneProcess) {
   write_noise(dir / "noise.raw", 41 * 23 * 37, 9);
   const std::string input = "noise.raw --raw 41x23x37:u8 -t 128 -q ";
   const char* cases[] = {"", "--view 0 -60", "--view 200 -30 --flat --image-size 97x61",
-                         "-o m.ply --normals --view 120 10", "-o m.stl --view 0 89"};
+                         "-o m.ply --normals --view 120 10", "-o m.stl --view 0 89",
+                         "--cut 0.4 --view 20 30"};
   for (const char* options : cases) {
     SCOPED_TRACE(options);
     const test::CommandResult alone = run_mvox(

@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "command_runner.h"
+#include "file_io.h"
+#include "mvox/zbuffer_renderer.h"
 #include "mvox_process.h"
 #include "read/ply/ply_reader.h"
 
@@ -53,6 +55,27 @@ TEST(PictureCli, DemoWritesADemoPngOfThePhantom) {
   EXPECT_EQ(picture.rows, 512);
   EXPECT_GT(cv::countNonZero(picture), 512 * 512 / 10);  // the phantom fills part of it
   EXPECT_EQ(dir.listing(), "demo.ply demo.png ");
+}
+
+TEST(PictureCli, TheDemoPictureIsACutawayWithCaps) {
+  // The README's picture: the skull cut open, its cut capped in the flat cap shade, which
+  // lighting gives almost nowhere (--cut 0 shows the closed skull).
+  ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("demo --size 64 -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_mvox("demo --size 64 -q --cut 0 -o whole.ply --image whole.png", dir.path())
+                .exit_code,
+            0);
+  const std::uint8_t cap = Lighting().cap;
+  auto cap_share = [cap](const cv::Mat& picture) {
+    return static_cast<double>(cv::countNonZero(picture == cap)) /
+           std::max(1, cv::countNonZero(picture));
+  };
+  const double cutaway = cap_share(read_gray(dir / "demo.png"));
+  const double whole = cap_share(read_gray(dir / "whole.png"));
+  EXPECT_GT(cutaway, 0.08) << "the skull's cut is capped";
+  EXPECT_LT(whole, 0.02);
+  // The mesh is the whole surface either way: the cut is the picture's.
+  EXPECT_EQ(test::read_bytes(dir / "demo.ply"), test::read_bytes(dir / "whole.ply"));
 }
 
 TEST(PictureCli, ExtractCanWriteOnlyAPicture) {
@@ -123,6 +146,27 @@ TEST(PictureCli, NormalsInThePlyAreUnitAndPointOutwards) {
     EXPECT_NEAR(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 1.0f, 1e-5f);
     const float outward = n[0] * (p[0] - centre) + n[1] * (p[1] - centre) + n[2] * (p[2] - centre);
     EXPECT_GT(outward, 0.0f) << "vertex " << i;
+  }
+}
+
+TEST(PictureCli, RenderCutsAwayAndCapsOnlyMeshesItMayTakeAsClosed) {
+  // mvox render takes any PLY file, so it caps a cut only with --cull (the mesh is closed and
+  // consistently wound); without it the cut only removes what lies in front of the plane.
+  ScratchDirectory dir;
+  ASSERT_EQ(run_mvox("phantom sphere -o stack --size 30x30x30 -q", dir.path()).exit_code, 0);
+  ASSERT_EQ(run_mvox("extract stack -t 128 -o sphere.ply -q", dir.path()).exit_code, 0);
+  for (const char* options : {"", "--cut 0.5", "--cut 0.5 --cull"}) {
+    ASSERT_EQ(run_mvox(std::string("render sphere.ply -o p.png -q ") + options, dir.path())
+                  .exit_code,
+              0)
+        << options;
+    const cv::Mat picture = read_gray(dir / "p.png");
+    const int caps = cv::countNonZero(picture == Lighting().cap);
+    const int drawn = cv::countNonZero(picture);
+    if (std::string(options).find("--cull") != std::string::npos)
+      EXPECT_GT(caps, drawn * 9 / 10) << options << ": a solid ball cut in half is all cap";
+    else
+      EXPECT_LT(caps, drawn / 50) << options;
   }
 }
 

@@ -64,6 +64,7 @@ TEST(SlabThreads, ThePictureIsTheSameBytesForAnyNumberOfThreads) {
       "--view 200 -30 --flat",
       "--view 0 89 --image-size 97x61",
       "--method cubes --view 30 20",
+      "--cut 0.5 --view 30 20",
       "-o mesh.ply --normals --view 120 10",
   };
   for (const char* options : cases) {

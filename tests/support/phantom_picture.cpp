@@ -28,7 +28,8 @@ PhantomPicture render_phantom(const std::string& name, const sim::Grid& grid,
   picture.camera = fit_camera(box_min, box_max, setup.view, setup.width, setup.height);
   WorkspaceBuffer image_memory(zbuffer_workspace_bytes(setup.width, setup.height));
   ZBufferRenderer renderer;
-  EXPECT_EQ(renderer.init(image_memory.data(), image_memory.bytes(), picture.camera), Status::ok);
+  EXPECT_EQ(renderer.init(image_memory.data(), image_memory.bytes(), picture.camera,
+                                setup.lighting), Status::ok);
 
   WorkspaceBuffer window_memory(slice_window_bytes(info.width, info.height, info.type));
   SliceWindow window;

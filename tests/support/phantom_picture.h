@@ -25,6 +25,7 @@ struct PhantomPictureSetup {
   std::uint32_t width = 128;
   std::uint32_t height = 128;
   ViewOptions view;
+  Lighting lighting;
   bool partial_volume = true;  // scanned with partial-volume edges (smooth normals)
   bool smooth = true;          // gradient normals; false: flat
   // Called after every slice the engine takes, with the picture so far.

@@ -48,7 +48,7 @@ std::vector<T> phantom_samples(std::uint32_t width, std::uint32_t height, std::u
   for (std::uint32_t z = 0; z < depth; ++z)
     for (std::uint32_t y = 0; y < height; ++y)
       for (std::uint32_t x = 0; x < width; ++x)
-        samples.push_back(sample_from_density<T>(phantom->partial_volume_density(x, y, z)));
+        samples.push_back(sample_from_density<T>(phantom->partial_volume_density(x, y, z, 0.0)));
   return samples;
 }
 

@@ -34,6 +34,10 @@ struct Lighting {
   // Skip triangles facing away from the viewer. Exact for closed, consistently wound surfaces
   // (every surface mvox extracts), and it halves the work; turn off for arbitrary meshes.
   bool cull_back_faces = true;
+  // With a cutaway (Camera::cut_depth) and culling on, the surface is taken as closed: where the
+  // first surface behind the plane faces away, the plane lies inside the solid, and the pixel
+  // gets this flat shade instead (a cap over the cut, as a section drawing shows it).
+  std::uint8_t cap = 150;
 };
 
 // What has been drawn since the last clear(). Every triangle of a projected polygon is counted
@@ -136,6 +140,7 @@ class ZBufferRenderer {
     float depth = 0;
     float weight_1 = 0, weight_2 = 0;         // of the triangle's vertices `vertex_1`, `vertex_2`
     std::uint8_t vertex_1 = 0, vertex_2 = 0;  // indices into projected_ (vertex 0 is the apex)
+    bool cap = false;                          // of a triangle facing away: the cutaway's cap
   };
   static constexpr std::size_t kMaxFragments = 2048;  // per polygon; beyond: a second pass
 
@@ -150,6 +155,7 @@ class ZBufferRenderer {
   template <bool write>
   bool draw_triangle(int i1, int i2);
   void shade_pixel(std::uint32_t pixel, float depth, const glm::vec3& normal);
+  void cap_pixel(std::uint32_t pixel, float depth);
   // project_polygon()'s second half: would the projected polygon write a pixel?
   bool test_projected(int vertex_count);
 
@@ -162,6 +168,8 @@ class ZBufferRenderer {
   std::uint32_t height_ = 0;
   Camera camera_;
   Lighting lighting_;
+  float cut_depth_ = 0;       // fragments nearer than this are cut away (0: no cutaway)
+  bool caps_ = false;         // back faces behind the cut draw caps (cutaway on a closed surface)
   std::uint8_t shade_of_cosine_[kShadeLevels] = {};
   RenderCounters counters_;
   // Orthographic cameras project by three affine maps: to subpixels and to depth 0..1.
