@@ -378,6 +378,37 @@ tour "NRRD: a sample type mvox does not read" \
 tour "NRRD: gzip data that are not gzip" \
   "{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 12 10 8\nencoding: gzip\n\n'; head -c 500 /dev/urandom; } > bad.nrrd" \
   "mvox extract bad.nrrd -t 1 $outputs"
+# NIfTI-1 files written field by field: nifti FILE DIMS DATATYPE BITPIX SAMPLE_BYTES [MAGIC].
+nifti() {
+  python3 - "$@" <<'PY'
+import struct, sys
+path, dims, datatype, bitpix, data = sys.argv[1], [int(d) for d in sys.argv[2].split(",")], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5])
+magic = (sys.argv[6] if len(sys.argv) > 6 else "n+1").encode() + b"\0"
+h = bytearray(352)
+struct.pack_into("<i", h, 0, 348)
+struct.pack_into("<8h", h, 40, len(dims), *(dims + [1] * (7 - len(dims))))
+struct.pack_into("<hh", h, 70, datatype, bitpix)
+struct.pack_into("<8f", h, 76, 1, 1, 1, 1, 1, 1, 1, 1)
+struct.pack_into("<f", h, 108, 352)
+h[344:348] = magic[:4]
+open(path, "wb").write(bytes(h) + bytes(data))
+PY
+}
+tour "NIfTI: a 4-D image (time series)" \
+  "nifti four.nii 12,10,8,5 2 8 4800" \
+  "mvox extract four.nii -t 1 $outputs"
+tour "NIfTI: data shorter than its dims" \
+  "nifti cut.nii 12,10,8 4 16 1000" \
+  "mvox extract cut.nii -t 1 $outputs"
+tour "NIfTI: an RGB image" \
+  "nifti rgb.nii 12,10,8 128 24 2880" \
+  "mvox extract rgb.nii -t 1 $outputs"
+tour "NIfTI: an Analyze 7.5 header (no NIfTI magic)" \
+  "nifti old.hdr 12,10,8 2 8 0 xyz" \
+  "mvox extract old.hdr -t 1 $outputs"
+tour "NIfTI: .nii.gz that is not gzip" \
+  "nifti plain.nii.gz 12,10,8 2 8 960" \
+  "mvox extract plain.nii.gz -t 1 $outputs"
 tour "MetaImage: data file missing" \
   "printf 'NDims = 3\nDimSize = 12 10 8\nElementType = MET_UCHAR\nElementDataFile = nowhere.raw\n' > head.mhd" \
   "mvox extract head.mhd -t 1 $outputs"

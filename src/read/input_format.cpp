@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <string>
 #include <utility>
 
 #include "error.h"
 #include "read/dicom/dicom_input.h"
 #include "read/image_stack/image_stack_input.h"
 #include "read/metaimage/metaimage_file.h"
+#include "read/nifti/nifti_file.h"
 #include "read/nrrd/nrrd_file.h"
 #include "read/raw/raw_input.h"
 #include "read/stored_volume_source.h"
@@ -29,6 +31,7 @@ const std::vector<std::string>& InputRequest::files(InputKind kind) const {
 const std::vector<const InputFormat*>& input_formats() {
   static const std::vector<const InputFormat*> formats = {
       &dicom_series_format(), &nrrd_volume_format(), &metaimage_volume_format(),
+      &nifti_volume_format(),
       &tiff_stack_format(),   &raw_volume_format(),  &raw_slices_format(),
       &image_stack_format()};
   return formats;
@@ -59,10 +62,13 @@ std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& i
 }
 
 bool has_extension(const std::string& path, std::initializer_list<const char*> extensions) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return std::any_of(extensions.begin(), extensions.end(),
-                     [&](const char* wanted) { return extension == wanted; });
+  // By the end of the name, so that double extensions (.nii.gz) work.
+  std::string name = std::filesystem::path(path).filename().string();
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return std::any_of(extensions.begin(), extensions.end(), [&](const char* wanted) {
+    const std::size_t length = std::char_traits<char>::length(wanted);
+    return name.size() > length && name.compare(name.size() - length, length, wanted) == 0;
+  });
 }
 
 bool claims_headered_volume(const InputRequest& request, const char* format_name,

@@ -57,7 +57,7 @@ struct InputFormat {
   OpenedInput (*open)(const InputRequest& request);
 };
 
-// The rows, in the order they are asked: DICOM series, NRRD, MetaImage, TIFF stacks, raw
+// The rows, in the order they are asked: DICOM series, NRRD, MetaImage, NIfTI, TIFF stacks, raw
 // volume, raw slices, and image stacks, which take whatever is left.
 const std::vector<const InputFormat*>& input_formats();
 

@@ -11,7 +11,10 @@ std::size_t stored_sample_bytes(StoredSample sample) {
     case StoredSample::i8: return 1;
     case StoredSample::u16:
     case StoredSample::i16: return 2;
-    case StoredSample::f32: return 4;
+    case StoredSample::f32:
+    case StoredSample::i32:
+    case StoredSample::u32: return 4;
+    case StoredSample::f64: return 8;
   }
   return 1;
 }
@@ -22,9 +25,16 @@ SampleType engine_sample_type(StoredSample sample) {
     case StoredSample::i8:
     case StoredSample::i16: return SampleType::i16;
     case StoredSample::u16: return SampleType::u16;
-    case StoredSample::f32: return SampleType::f32;
+    case StoredSample::f32:
+    case StoredSample::i32:
+    case StoredSample::u32:
+    case StoredSample::f64: return SampleType::f32;
   }
   return SampleType::u8;
+}
+
+SampleType scaled_engine_type(const StoredVolume& volume) {
+  return volume.scaled() ? SampleType::f32 : engine_sample_type(volume.stored);
 }
 
 const char* stored_sample_name(StoredSample sample) {
@@ -34,6 +44,9 @@ const char* stored_sample_name(StoredSample sample) {
     case StoredSample::u16: return "u16";
     case StoredSample::i16: return "i16";
     case StoredSample::f32: return "f32";
+    case StoredSample::i32: return "i32";
+    case StoredSample::u32: return "u32";
+    case StoredSample::f64: return "f64";
   }
   return "?";
 }

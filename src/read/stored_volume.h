@@ -1,5 +1,5 @@
 #pragma once
-// What a volume file's header says about its samples (NRRD, MetaImage): sizes, the sample type
+// What a volume file's header says about its samples (NRRD, MetaImage, NIfTI): sizes, the sample type
 // as stored, byte order, compression, and the geometry the engine's VolumeInfo carries. Filled
 // by the header parsers, read by StoredVolumeSource.
 #include <cstdint>
@@ -11,8 +11,9 @@
 namespace mvox {
 
 // Sample types as stored in a file. The engine classifies u8, u16, i16 and f32; i8 is widened
-// to i16 on reading, which keeps every value.
-enum class StoredSample : std::uint8_t { u8, i8, u16, i16, f32 };
+// to i16 on reading, which keeps every value; i32, u32 and f64 become f32, exact for integers up
+// to 2^24 in magnitude (label maps), the nearest float otherwise.
+enum class StoredSample : std::uint8_t { u8, i8, u16, i16, f32, i32, u32, f64 };
 
 enum class Compression : std::uint8_t {
   none,
@@ -27,11 +28,18 @@ struct StoredVolume {
   StoredSample stored = StoredSample::u8;
   ByteOrder byte_order = ByteOrder::little;  // of the stored samples; u8 and i8 are order-free
   Compression compression = Compression::none;
+  // Samples are scale_slope * stored + scale_intercept (NIfTI's scl_slope and scl_inter); when
+  // that is not the identity, info.type is f32 (scaled_engine_type).
+  double scale_slope = 1;
+  double scale_intercept = 0;
+  bool scaled() const { return scale_slope != 1 || scale_intercept != 0; }
 };
 
 std::size_t stored_sample_bytes(StoredSample sample);
 SampleType engine_sample_type(StoredSample sample);
-const char* stored_sample_name(StoredSample sample);  // "u8", "i8", "u16", "i16", "f32"
+// The engine's type for `volume`: f32 when it is scaled, else engine_sample_type(stored).
+SampleType scaled_engine_type(const StoredVolume& volume);
+const char* stored_sample_name(StoredSample sample);  // "u8", "i8", "u16", "i16", "f32", ...
 
 // Bytes one slice, and the whole volume, take in the file (before any decompression).
 std::uint64_t stored_slice_bytes(const StoredVolume& volume);

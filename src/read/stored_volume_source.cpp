@@ -1,5 +1,6 @@
 #include "read/stored_volume_source.h"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
@@ -25,6 +26,42 @@ void widen_i8_to_i16(unsigned char* bytes, std::size_t count) {
   }
 }
 
+// Stored samples (native order, `count` of them at the start of `bytes`) to the engine's f32,
+// times `slope` plus `intercept`, in place: `bytes` has room for both. Samples no wider than a
+// float move up, so they go backwards; f64 moves down, so forwards. Either way no sample is
+// overwritten before it is read.
+template <class Stored>
+void to_f32(unsigned char* bytes, std::size_t count, double slope, double intercept) {
+  auto convert = [&](std::size_t i) {
+    Stored stored;
+    std::memcpy(&stored, bytes + i * sizeof(Stored), sizeof(Stored));
+    const double value = slope == 1 && intercept == 0
+                             ? static_cast<double>(stored)
+                             : slope * static_cast<double>(stored) + intercept;
+    const auto sample = static_cast<float>(value);
+    std::memcpy(bytes + i * sizeof(float), &sample, sizeof(float));
+  };
+  if (sizeof(Stored) <= sizeof(float)) {
+    for (std::size_t i = count; i-- > 0;) convert(i);
+  } else {
+    for (std::size_t i = 0; i < count; ++i) convert(i);
+  }
+}
+
+void convert_to_f32(StoredSample stored, unsigned char* bytes, std::size_t count, double slope,
+                    double intercept) {
+  switch (stored) {
+    case StoredSample::u8: return to_f32<std::uint8_t>(bytes, count, slope, intercept);
+    case StoredSample::i8: return to_f32<std::int8_t>(bytes, count, slope, intercept);
+    case StoredSample::u16: return to_f32<std::uint16_t>(bytes, count, slope, intercept);
+    case StoredSample::i16: return to_f32<std::int16_t>(bytes, count, slope, intercept);
+    case StoredSample::f32: return to_f32<float>(bytes, count, slope, intercept);
+    case StoredSample::i32: return to_f32<std::int32_t>(bytes, count, slope, intercept);
+    case StoredSample::u32: return to_f32<std::uint32_t>(bytes, count, slope, intercept);
+    case StoredSample::f64: return to_f32<double>(bytes, count, slope, intercept);
+  }
+}
+
 }  // namespace
 
 StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data)
@@ -37,8 +74,10 @@ StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeD
 }
 
 std::uint64_t StoredVolumeSource::working_bytes() const {
-  const std::uint64_t slice =
-      std::uint64_t{volume_.info.width} * volume_.info.height * sample_bytes(volume_.info.type);
+  // The slice buffer holds the stored samples, then the engine's (f64 is the wider of the two).
+  const std::uint64_t slice = std::max<std::uint64_t>(
+      stored_slice_bytes(volume_),
+      std::uint64_t{volume_.info.width} * volume_.info.height * sample_bytes(volume_.info.type));
   // zlib's input buffer, a buffer to measure the stream into, and zlib's state and window.
   constexpr std::uint64_t kInflateBytes = 64 * 1024 + 64 * 1024 + 48 * 1024;
   return slice + (volume_.compression == Compression::none ? 0 : kInflateBytes);
@@ -126,10 +165,11 @@ bool StoredVolumeSource::next_slice(SliceView* slice) {
   if (next_index_ >= end_index_) return false;
   const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
   if (buffer_.empty())
-    resize_buffer(
-        buffer_,
-        std::uint64_t{volume_.info.width} * volume_.info.height * sample_bytes(volume_.info.type),
-        data_.path, "a slice");
+    resize_buffer(buffer_,
+                  std::max<std::uint64_t>(stored_bytes, std::uint64_t{volume_.info.width} *
+                                                            volume_.info.height *
+                                                            sample_bytes(volume_.info.type)),
+                  data_.path, "a slice");
   if (inflate_) {
     inflate_->read(buffer_.data(), stored_bytes,
                    data_.skip_decompressed + stored_volume_bytes(volume_), volume_text());
@@ -140,7 +180,13 @@ bool StoredVolumeSource::next_slice(SliceView* slice) {
   const std::size_t bytes_per_sample = stored_sample_bytes(volume_.stored);
   const std::size_t samples = stored_bytes / bytes_per_sample;
   swap_to_native(buffer_.data(), samples, bytes_per_sample, volume_.byte_order);
-  if (volume_.stored == StoredSample::i8) widen_i8_to_i16(buffer_.data(), samples);
+  if (volume_.info.type == SampleType::f32) {
+    if (volume_.stored != StoredSample::f32 || volume_.scaled())
+      convert_to_f32(volume_.stored, buffer_.data(), samples, volume_.scale_slope,
+                     volume_.scale_intercept);
+  } else if (volume_.stored == StoredSample::i8) {
+    widen_i8_to_i16(buffer_.data(), samples);
+  }
 
   slice->samples = buffer_.data();
   slice->width = volume_.info.width;
