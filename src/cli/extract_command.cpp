@@ -1,6 +1,8 @@
 // mvox extract INPUT... -t D -o mesh.ply|.stl|.obj: the main job.
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <utility>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -9,6 +11,7 @@
 #include "cli/commands.h"
 #include "error.h"
 #include "message_line.h"
+#include "labels/label_job.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/mesh_job.h"
 #include "pipeline/termination.h"
@@ -41,6 +44,9 @@ struct ExtractArguments {
   bool sync = false;
   unsigned threads = 0;  // 0: not given (chosen by the volume's size)
   std::uint32_t slab_slices = 0;
+  std::string labels;  // --labels LIST ("" with the option alone: every label)
+  const CLI::Option* labels_option = nullptr;
+  const CLI::Option* threshold_option = nullptr;
 };
 
 // A threshold beyond what the samples can hold makes no voxel inner, or every voxel: an empty
@@ -68,7 +74,66 @@ void check_threshold_range(const std::string& input, SampleType type, double thr
   throw Error(input, problem);
 }
 
+// The options --labels cannot take, as usage errors before anything is read.
+void check_label_options(const ExtractArguments& args) {
+  if (args.threshold_option->count() > 0)
+    throw CLI::ValidationError("--labels", "a voxel belongs to label L when its value is L: "
+                                           "leave -t out");
+  const std::string& pattern = args.output;
+  if (pattern.find("{label}") == std::string::npos ||
+      std::filesystem::path(pattern).parent_path().string().find("{label}") != std::string::npos)
+    throw CLI::ValidationError("--labels", "one mesh per label: give -o with {label} in the "
+                                           "file name, e.g. -o 'organ_{label}.stl'");
+  const std::pair<bool, const char*> refused[] = {
+      {!args.picture.image.empty(), "--image"},
+      {!args.picture.frames_dir.empty(), "--frames"},
+      {args.picture.show, "--show"},
+      {args.normals, "--normals"},
+      {args.smooth > 0, "--smooth"},
+      {args.decimate > 0, "--decimate"},
+      {args.max_error > 0, "--max-error"},
+      {args.threads > 1, "--threads"},
+      {args.dry_run, "--dry-run"},
+      {!args.max_memory.empty(), "--max-memory"},
+  };
+  for (const auto& [given, option] : refused)
+    if (given)
+      throw CLI::ValidationError(option, "not with --labels, which writes each label's mesh on "
+                                         "one thread, without pictures or post-processing");
+  const EngineOptions engine = args.engine.options();
+  if (engine.method != SurfaceMethod::voxels || engine.interpolate)
+    throw CLI::ValidationError("--labels", "labels are extracted by marching voxels at their "
+                                           "voxel boundaries: leave out --method cubes and "
+                                           "--interpolate");
+}
+
+void run_labels(const ExtractArguments& args) {
+  check_label_options(args);
+  LabelJob job;
+  if (const std::string problem = parse_label_choice(args.labels, &job.labels); !problem.empty())
+    throw CLI::ValidationError("--labels", problem);
+  job.format = args.mesh.format_for(args.output);
+  set_interrupt_subject(inputs_label(args.inputs));
+  InputOptions input_options;
+  if (!args.raw_spec.empty()) input_options.raw = parse_raw_format(args.raw_spec);
+  input_options.dicom = args.dicom;
+  OpenedInput input = open_input(args.inputs, input_options);
+  job.input_label = inputs_label(args.inputs);
+  job.input_files = std::move(input.files);
+  job.engine = args.engine.options();
+  job.output_pattern = args.output;
+  job.mesh = mesh_writer_options(args.mesh, input.source->info(), job.input_label,
+                                 "mvox marching voxels");
+  job.stats_path = args.stats_path;
+  job.sync = args.sync;
+  job.quiet = args.quiet;
+  BufferedWriter::allow_background_writes(false);  // one thread: see check_label_options
+  run_label_job(*input.source, job);
+}
+
 void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
+  if (args.labels_option->count() > 0) return run_labels(args);
+  if (args.threshold_option->count() == 0) throw CLI::RequiredError("--threshold");
   const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
   if (args.normals && format == MeshFormat::stl)
     throw CLI::ValidationError("--normals",
@@ -165,12 +230,21 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
       ->add_option("INPUT", args->inputs,
                    "Slices: a directory or glob of PNG/TIFF/JPEG/BMP/PGM images (TIFF files "
                    "may hold many pages), a DICOM series (a directory or files; recognised by "
-                   "content), one NRRD (.nrrd, .nhdr) or MetaImage (.mhd, .mha) volume, raw "
+                   "content), one NRRD (.nrrd, .nhdr), MetaImage (.mhd, .mha) or NIfTI (.nii, "
+                   ".nii.gz, .hdr) volume, raw "
                    "slice files, or one raw volume file (with --raw)")
       ->required();
-  command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units")
-      ->required()
-      ->check(finite_number());
+  args->threshold_option =
+      command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units (required, but for --labels)")
+          ->check(finite_number());
+  args->labels_option =
+      command
+          ->add_option("--labels", args->labels,
+                       "Label maps (segmentations): one closed surface per label, a label's "
+                       "voxels being those equal to it; LIST is 1,4,7 or left out for every "
+                       "positive integer in the volume. -o must hold {label}, e.g. "
+                       "-o 'organ_{label}.stl'; no -t")
+          ->expected(0, 1);
   command->add_option("-o,--output", args->output,
                       "Output mesh: .ply, .stl or .obj ('-' for standard output); may be left "
                       "out with --image");

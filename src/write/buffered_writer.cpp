@@ -60,6 +60,22 @@ BufferedWriter::~BufferedWriter() {
   background_->thread.join();
 }
 
+void BufferedWriter::release() {
+  if (background_) {
+    {
+      std::unique_lock<std::mutex> lock(background_->mutex);
+      background_->changed.wait(lock, [&] { return !background_->busy; });
+      background_->stop = true;
+      background_->changed.notify_all();
+    }
+    background_->thread.join();
+    background_.reset();
+  }
+  buffer_.reset();
+  spare_.reset();
+  used_ = 0;
+}
+
 void BufferedWriter::set_fd(int fd) {
   // A background write still uses the old descriptor: it must end before that is closed.
   if (background_) background_->error = wait_for_background();

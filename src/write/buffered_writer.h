@@ -76,6 +76,11 @@ class BufferedWriter {
   // Bytes appended so far, buffered or not.
   std::uint64_t bytes_written() const { return total_; }
 
+  // After the last flush: ends the writing thread and frees both buffers, so that a file kept
+  // only to be published later (one per label, mvox extract --labels) holds no memory. Nothing
+  // may be written after it.
+  void release();
+
  private:
   struct Background;
 

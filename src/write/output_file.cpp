@@ -235,6 +235,7 @@ void OutputFile::seal() {
   writer_.set_fd(-1);
   if (::close(fd) != 0) fail_write(errno);
   sealed_ = true;
+  writer_.release();  // a sealed file waiting to be published holds no buffers
 }
 
 void OutputFile::check_replaceable() const {

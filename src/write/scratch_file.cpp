@@ -42,9 +42,29 @@ void ScratchFile::fail_write(int error) {
   throw Error(subject_, "write failed on temporary file: " + errno_text(error));
 }
 
+void ScratchFile::read_at(std::uint64_t offset, void* data, std::size_t size) {
+  if (const int error = writer_.flush()) fail_write(error);
+  auto* bytes = static_cast<char*>(data);
+  while (size > 0) {
+    const ssize_t got = ::pread(writer_.fd(), bytes, size, static_cast<off_t>(offset));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0)
+      throw Error(subject_, "read failed on temporary file: " +
+                                (got < 0 ? errno_text(errno) : std::string("it ended early")));
+    bytes += got;
+    size -= static_cast<std::size_t>(got);
+    offset += static_cast<std::uint64_t>(got);
+  }
+}
+
 void ScratchFile::copy_to(OutputFile& out) {
   if (const int error = writer_.flush()) fail_write(error);
   out.append_file(writer_.fd(), writer_.bytes_written(), subject_);
+  // The last use: the descriptor and the buffers go now, not when the owner does.
+  const int fd = writer_.fd();
+  writer_.set_fd(-1);
+  ::close(fd);
+  writer_.release();
 }
 
 }  // namespace mvox

@@ -40,6 +40,10 @@ class ScratchFile {
   // Appends everything written so far to `out`. Call once, as the last use of this file.
   void copy_to(OutputFile& out);
 
+  // Reads `size` bytes at `offset` back (flushing what is buffered first), for files that are
+  // written, then replayed in another order (mvox extract --labels). Throws mvox::Error.
+  void read_at(std::uint64_t offset, void* data, std::size_t size);
+
  private:
   [[noreturn]] void fail_write(int error);
 
