@@ -66,6 +66,8 @@ struct PictureChoice {
   bool show = false;
   // Throws mvox::Error for a malformed --size.
   PictureOptions options() const;
+  // Any picture at all: --image, --frames or --show.
+  bool wanted_any() const { return !image.empty() || !frames_dir.empty() || show; }
 };
 enum class PictureUse { extraction, mesh_file };
 void add_picture_options(CLI::App& command, PictureChoice& choice, PictureUse use);

@@ -45,6 +45,7 @@ struct ExtractArguments {
   unsigned threads = 0;  // 0: not given (chosen by the volume's size)
   std::uint32_t slab_slices = 0;
   std::string labels;  // --labels LIST ("" with the option alone: every label)
+  PieceRule pieces;    // --largest, --min-faces
   const CLI::Option* labels_option = nullptr;
   const CLI::Option* threshold_option = nullptr;
 };
@@ -127,6 +128,7 @@ void run_labels(const ExtractArguments& args) {
   job.stats_path = args.stats_path;
   job.sync = args.sync;
   job.quiet = args.quiet;
+  job.pieces = args.pieces;
   BufferedWriter::allow_background_writes(false);  // one thread: see check_label_options
   run_label_job(*input.source, job);
 }
@@ -196,6 +198,20 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
     decimation.max_error_voxels = args.max_error;
     job.decimation = decimation;
   }
+  if (args.pieces.active()) {
+    // Pieces are known only once the whole surface is: the mesh waits in a spool, so the
+    // picture (drawn as slices come) and the normals (from slices long gone) cannot follow.
+    const char* option = args.pieces.largest ? "--largest" : "--min-faces";
+    if (args.output.empty())
+      throw CLI::ValidationError(option, "keeps pieces of the mesh: give -o");
+    if (args.picture.wanted_any())
+      throw CLI::ValidationError(option, "not with a picture, which is drawn as the surface "
+                                         "streams, before its pieces are known");
+    if (args.normals)
+      throw CLI::ValidationError(option, "not with --normals, whose slices are gone when the "
+                                         "pieces are known");
+    job.pieces = args.pieces;
+  }
   job.picture = args.picture.options();
   // Decimated vertices may leave long after the slices their gradients need: pictures are flat.
   if (job.decimation) job.picture.smooth = false;
@@ -245,6 +261,14 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                        "positive integer in the volume. -o must hold {label}, e.g. "
                        "-o 'organ_{label}.stl'; no -t")
           ->expected(0, 1);
+  command->add_flag("--largest", args->pieces.largest,
+                    "Keep only the largest connected piece of the surface (most faces), per "
+                    "label with --labels: drops floating specks and islands");
+  command
+      ->add_option("--min-faces", args->pieces.min_faces,
+                   "Drop connected pieces of fewer than N faces (polygons), per label with "
+                   "--labels")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 62));
   command->add_option("-o,--output", args->output,
                       "Output mesh: .ply, .stl or .obj ('-' for standard output); may be left "
                       "out with --image");

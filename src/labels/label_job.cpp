@@ -70,6 +70,7 @@ LabelReport run_label_job(SliceSource& source, const LabelJob& job) {
   LabelReport report;
   report.input = job.input_label;
   report.volume = source.info();
+  report.pieces = job.pieces.active();
   report.start_memory_bytes = current_resident_bytes();
   const VolumeInfo& info = report.volume;
   const std::size_t pixels = std::size_t{info.width} * info.height;
@@ -182,19 +183,27 @@ LabelReport run_label_job(SliceSource& source, const LabelJob& job) {
     for (std::string& comment : options.comments) comment += ", label " + std::to_string(label);
     if (options.comments.empty()) options.comments.push_back("label " + std::to_string(label));
     const std::string file = label_file_name(job.output_pattern, label);
-    writers.push_back(open_mesh_writer(file, job.format, options));
-    MeshWriter& writer = *writers.back();
-    const Status status = spool.replay(label, writer);
-    if (status == Status::sink_refused && writer.error()) throw *writer.error();
+    std::unique_ptr<MeshWriter> writer = open_mesh_writer(file, job.format, options);
+    LabelSurface surface;
+    const Status status =
+        job.pieces.active()
+            ? write_kept_pieces(spool, label, pixels, job.pieces, directory, *writer,
+                                &surface.pieces)
+            : spool.replay(label, *writer);
+    if (status == Status::sink_refused && writer->error()) throw *writer->error();
     if (status != Status::ok)
       throw Error(file, std::string("writing failed: ") + status_message(status));
-    writer.complete();  // sealed: its buffers are freed until it is published
-    LabelSurface surface;
+    if (job.pieces.active() && surface.pieces.polygons_kept == 0) {
+      report.dropped.push_back(label);  // nothing left: no file (the temporary goes with it)
+      continue;
+    }
+    writer->complete();  // sealed: its buffers are freed until it is published
+    writers.push_back(std::move(writer));
     surface.label = label;
     surface.file = file;
-    surface.vertices = counts.vertices;
-    surface.polygons = counts.polygons;
-    surface.faces_written = writer.faces_written();
+    surface.vertices = job.pieces.active() ? surface.pieces.vertices_kept : counts.vertices;
+    surface.polygons = job.pieces.active() ? surface.pieces.polygons_kept : counts.polygons;
+    surface.faces_written = writers.back()->faces_written();
     surface.sessions = counts.sessions;
     report.surfaces.push_back(surface);
   }
@@ -241,14 +250,27 @@ std::string label_report_json(const LabelReport& r) {
     json += i == 0 ? "\n" : ",\n";
     std::snprintf(line, sizeof line,
                   "    {\"label\": %u, \"vertices\": %llu, \"polygons\": %llu, \"faces_written\": "
-                  "%llu, \"engines\": %llu, \"file\": ",
+                  "%llu, \"engines\": %llu, ",
                   s.label, static_cast<unsigned long long>(s.vertices),
                   static_cast<unsigned long long>(s.polygons),
                   static_cast<unsigned long long>(s.faces_written),
                   static_cast<unsigned long long>(s.sessions));
-    json += line + json_string(s.file) + "}";
+    json += line;
+    if (r.pieces) {
+      std::snprintf(line, sizeof line,
+                    "\"pieces\": %llu, \"pieces_kept\": %llu, \"piece_starts\": %llu, ",
+                    static_cast<unsigned long long>(s.pieces.pieces),
+                    static_cast<unsigned long long>(s.pieces.pieces_kept),
+                    static_cast<unsigned long long>(s.pieces.piece_starts));
+      json += line;
+    }
+    json += "\"file\": " + json_string(s.file) + "}";
   }
   json += r.surfaces.empty() ? "],\n" : "\n  ],\n";
+  json += "  \"labels_dropped\": [";
+  for (std::size_t i = 0; i < r.dropped.size(); ++i)
+    json += (i == 0 ? "" : ", ") + std::to_string(r.dropped[i]);
+  json += "],\n";
   std::snprintf(line, sizeof line,
                 "  \"memory\": {\"most_engines_at_once\": %u, \"bytes_per_engine\": %llu, "
                 "\"spool_index_bytes\": %llu, \"start_bytes\": %llu, \"peak_bytes\": %llu},\n",

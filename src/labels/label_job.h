@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "labels/label_values.h"
+#include "labels/piece_filter.h"
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
 #include "write/mesh/mesh_format.h"
@@ -34,6 +35,7 @@ struct LabelJob {
   std::string stats_path;  // empty: no report
   bool sync = false;
   bool quiet = false;
+  PieceRule pieces;  // --largest, --min-faces: per label
 };
 
 struct LabelSurface {
@@ -43,12 +45,15 @@ struct LabelSurface {
   std::uint64_t polygons = 0;
   std::uint64_t faces_written = 0;  // triangles for STL and --triangulate
   std::uint64_t sessions = 0;       // engines: 1 + the times it came back after an empty slice
+  PieceCounts pieces;               // with --largest or --min-faces
 };
 
 struct LabelReport {
   std::string input;
   VolumeInfo volume;
   std::vector<LabelSurface> surfaces;  // by label, increasing
+  std::vector<std::uint32_t> dropped;  // labels whose every piece --min-faces dropped: no file
+  bool pieces = false;                 // --largest or --min-faces was asked for
   std::uint32_t most_engines = 0;      // engines running at once, at most
   std::uint64_t engine_bytes = 0;      // the workspace and mask of one engine
   std::uint64_t spool_bytes = 0;       // the scratch file on disk

@@ -1,6 +1,7 @@
 #include "pipeline/mesh_job.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "pipeline/slab_extraction.h"
 #include "pipeline/stopwatch.h"
 #include "pipeline/termination.h"
+#include "labels/label_spool.h"
 #include "postprocess/edge_smoothing.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
@@ -62,6 +64,9 @@ void print_run_summary(const RunReport& r) {
   if (r.smooth_iterations > 0) {
     std::fprintf(stderr, ", smoothed %u times", r.smooth_iterations);
   }
+  if (r.piece_rule)
+    std::fprintf(stderr, ", %s of %s pieces kept (%s polygons)", grouped(r.pieces.pieces_kept).c_str(),
+                 grouped(r.pieces.pieces).c_str(), grouped(r.pieces.polygons_kept).c_str());
   if (r.decimation) {
     const DecimationCounts& d = r.result.decimation;
     std::fprintf(stderr, ", decimated to %s triangles (%.1f%% of %s) on %s vertices",
@@ -70,7 +75,8 @@ void print_run_summary(const RunReport& r) {
                  grouped(d.triangles_in).c_str(), grouped(d.vertices_out).c_str());
   }
   // STL and --triangulate write triangles: say how many, and in which format.
-  if (!r.output.empty() && r.faces_written != c.polygons)
+  const std::uint64_t polygons_written = r.piece_rule ? r.pieces.polygons_kept : c.polygons;
+  if (!r.output.empty() && r.faces_written != polygons_written)
     std::fprintf(stderr, ", written as %s triangles (%s)", grouped(r.faces_written).c_str(),
                  r.format.c_str());
   std::fprintf(stderr,
@@ -122,9 +128,9 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
     threads = bytes >= kAutoSlabVolumeBytes ? std::max(1u, std::thread::hardware_concurrency()) : 1;
   }
   // Frames and the live window show the picture slice by slice, as one engine draws it; the
-  // smoothing needs the layers on both sides of a slab's boundary.
+  // smoothing needs the layers on both sides of a slab's boundary; pieces are spooled by one.
   if (threads <= 1 || !job.picture.frames_dir.empty() || job.picture.show ||
-      job.smooth_iterations > 0 || job.decimation)
+      job.smooth_iterations > 0 || job.decimation || job.pieces.active())
     return 1;
   const std::uint32_t slabs = slab_count(info, job.slab_slices);
   // At most one worker per slab (run_slab_pipeline takes no more).
@@ -280,8 +286,16 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   std::optional<OutputFile> stats_file;
   if (!job.stats_path.empty()) stats_file.emplace(job.stats_path, job.sync);
 
+  // --largest / --min-faces: the mesh goes to a spool first, and its kept pieces to the writer
+  // after extraction.
+  std::optional<LabelSpool> spool;
+  const std::string spool_directory = [&] {
+    const std::filesystem::path path(job.output == "-" ? "." : job.output);
+    return path.has_parent_path() ? path.parent_path().string() : std::string(".");
+  }();
+  if (writer && job.pieces.active()) spool.emplace(spool_directory, job.output);
   PipelineSinks sinks;
-  if (writer) sinks.mesh = &*writer;
+  if (writer) sinks.mesh = spool ? &spool->session(1) : &*writer;
   if (picture) sinks.render = &picture->sink();
   if (normal_window) sinks.window = &normal_window->window();
   sinks.smooth_iterations = job.smooth_iterations;
@@ -324,6 +338,8 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     report.result.times.render_s += following;
     report.result.times.extract_s -= following;
   }
+  if (report.result.status == Status::sink_refused && spool && spool->error())
+    throw *spool->error();
   if (report.result.status == Status::sink_refused && writer && writer->error())
     throw *writer->error();
   if (report.result.status != Status::ok)
@@ -331,6 +347,15 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
                 std::string("extraction failed: ") + status_message(report.result.status));
 
   const auto write_start = Clock::now();
+  if (spool) {
+    report.piece_rule = job.pieces;
+    const Status status =
+        write_kept_pieces(*spool, 1, std::uint64_t{info.width} * info.height, job.pieces,
+                          spool_directory, *writer, &report.pieces);
+    if (status == Status::sink_refused && writer->error()) throw *writer->error();
+    if (status != Status::ok)
+      throw Error(job.output, std::string("writing failed: ") + status_message(status));
+  }
   if (writer) {
     writer->complete();
     report.format = mesh_format_name(job.format);

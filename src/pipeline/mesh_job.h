@@ -10,6 +10,7 @@
 #include "picture/surface_picture.h"
 #include "pipeline/memory_plan.h"
 #include "write/mesh/mesh_format.h"
+#include "labels/piece_filter.h"
 #include "write/stats_json.h"
 
 namespace mvox {
@@ -30,6 +31,9 @@ struct MeshJob {
   // --decimate / --max-error (postprocess/layer_decimation.h); one engine does it, with flat
   // pictures and no --normals (vertices may leave long after the slices around them).
   std::optional<DecimationOptions> decimation;
+  // --largest, --min-faces: the mesh is spooled (labels/label_spool.h) and only the pieces kept
+  // are written, after extraction; one engine, no picture, no --normals.
+  PieceRule pieces;
   PictureOptions picture;
   std::string stats_path;  // empty: no report
   // Make every output durable (fsync) before it appears: --sync. Sets the mesh's and the

@@ -84,7 +84,9 @@ bool set_axis_from_vector(VolumeInfo& info, int axis, const double vector[3]) {
   // spacing of 1e300 must reach WorldTransform::check, which calls it too large, rather than
   // be taken for no spacing at all.
   const double length = std::hypot(vector[0], vector[1], vector[2]);
-  if (!(length > 0) || !std::isfinite(length)) return false;
+  // A subnormal length keeps too few bits for the quotients to make a unit vector: no
+  // direction either (found by nifti_header_fuzzer: NIfTI-2 sform columns of 1e-320).
+  if (!(length >= std::numeric_limits<double>::min()) || !std::isfinite(length)) return false;
   info.spacing[axis] = length;
   for (int i = 0; i < 3; ++i) info.axes[axis][i] = vector[i] / length;
   return true;

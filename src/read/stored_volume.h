@@ -57,7 +57,7 @@ bool volume_size_fits(std::uint64_t width, std::uint64_t height, std::uint64_t d
 
 // Sets spacing[axis] and axes[axis] from a direction vector whose length is the voxel size
 // along that axis (NRRD "space directions"; a negative spacing is a direction -1 * unit axis).
-// Returns false when the vector has zero length or a component that is not finite.
+// Returns false when the vector has zero or subnormal length or a component that is not finite.
 bool set_axis_from_vector(VolumeInfo& info, int axis, const double vector[3]);
 
 // For a header that states only two axes (a single slice), the third axis is the unit normal of

@@ -112,6 +112,14 @@ std::string run_report_json(const RunReport& r) {
         << ", \"triangles_in\": " << d.triangles_in << ", \"triangles_out\": " << d.triangles_out
         << ", \"vertices_out\": " << d.vertices_out << "},\n";
   }
+  if (r.piece_rule) {
+    const PieceCounts& p = r.pieces;
+    out << "  \"pieces\": {\"largest\": " << (r.piece_rule->largest ? "true" : "false")
+        << ", \"min_faces\": " << r.piece_rule->min_faces << ", \"pieces\": " << p.pieces
+        << ", \"pieces_kept\": " << p.pieces_kept << ", \"polygons_kept\": " << p.polygons_kept
+        << ", \"vertices_kept\": " << p.vertices_kept << ", \"piece_starts\": " << p.piece_starts
+        << "},\n";
+  }
   out << "  \"inner_voxels\": " << c.inner_voxels << ",\n"
       << "  \"vertices\": " << c.vertices << ",\n"
       << "  \"polygons\": " << c.polygons << ",\n"

@@ -8,6 +8,7 @@
 #include "mvox/zbuffer_renderer.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/pipeline.h"
+#include "labels/piece_filter.h"
 #include "postprocess/layer_decimation.h"
 
 namespace mvox {
@@ -28,6 +29,8 @@ struct RunReport {
   bool interpolated = false;
   std::uint32_t smooth_iterations = 0;          // --smooth N
   std::optional<DecimationOptions> decimation;  // --decimate, --max-error
+  std::optional<PieceRule> piece_rule;          // --largest, --min-faces
+  PieceCounts pieces;                           // and what they kept
   PipelineResult result;
   std::uint64_t start_memory_bytes = 0;  // resident when the job started (libraries loaded)
   std::uint64_t peak_memory_bytes = 0;   // peak resident over the process's life

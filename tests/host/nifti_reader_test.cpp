@@ -266,6 +266,9 @@ TEST(NiftiReader, MalformedHeadersAreRefusedWithOneLineNamingTheFile) {
     bad.sform_code = 1;
     bad.srow[1][1] = NAN;
     expect_refused(bad, "sform.nii", "sform gives voxel axis j no direction");
+    // A subnormal column (NIfTI-2's doubles can hold one) gives no unit direction either.
+    bad.srow[1][1] = version == 2 ? 1e-320 : 0.0;
+    expect_refused(bad, "tiny.nii", "sform gives voxel axis j no direction");
     bad = f;
     bad.samples.resize(kCount - 7);
     expect_refused(bad, "short.nii", "expected");

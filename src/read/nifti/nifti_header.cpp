@@ -87,7 +87,7 @@ void set_geometry(VolumeInfo& info, const double columns[3][3], const double ori
     const bool flat_third = axis == 2 && info.depth == 1;
     if (flat_third && complete_third_axis(info)) continue;
     throw Error(path, std::string(what) + " gives voxel axis " + "ijk"[axis] +
-                          " no direction (a zero or non-finite column)");
+                          " no direction (a zero, subnormal or non-finite column)");
   }
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(origin[i])) throw Error(path, std::string(what) + " offset is not finite");
