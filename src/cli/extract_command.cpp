@@ -12,6 +12,9 @@
 #include "error.h"
 #include "message_line.h"
 #include "labels/label_job.h"
+#include "labels/tissue_presets.h"
+#include "labels/value_range_source.h"
+#include "read/dicom/dicom_series_source.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/mesh_job.h"
 #include "pipeline/termination.h"
@@ -46,6 +49,8 @@ struct ExtractArguments {
   std::uint32_t slab_slices = 0;
   std::string labels;  // --labels LIST ("" with the option alone: every label)
   PieceRule pieces;    // --largest, --min-faces
+  std::string tissue;  // --tissue NAME (labels/tissue_presets.h); empty: not given
+  bool hounsfield = false;  // --hu: the input's values are Hounsfield units
   const CLI::Option* labels_option = nullptr;
   const CLI::Option* threshold_option = nullptr;
 };
@@ -133,9 +138,32 @@ void run_labels(const ExtractArguments& args) {
   run_label_job(*input.source, job);
 }
 
+// --tissue's thresholds are Hounsfield units: a CT DICOM series says so itself (Modality CT,
+// rescale applied), any other input only when the user adds --hu.
+void check_hounsfield_input(const ExtractArguments& args, const SliceSource& source) {
+  const auto* dicom = dynamic_cast<const DicomSeriesSource*>(&source);
+  if (args.hounsfield || (dicom && dicom->modality() == "CT")) return;
+  const std::string what =
+      dicom ? "is a DICOM series of modality " +
+                  (dicom->modality().empty() ? std::string("unknown") : dicom->modality()) +
+                  ", not CT"
+            : "does not say its values are Hounsfield units";
+  throw Error(inputs_label(args.inputs),
+              "--tissue " + args.tissue + " is a range of Hounsfield units, and the input " +
+                  what + "; add --hu if its values are HU (a CT saved as NIfTI or NRRD), or "
+                         "give -t in its own units");
+}
+
 void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
-  if (args.labels_option->count() > 0) return run_labels(args);
-  if (args.threshold_option->count() == 0) throw CLI::RequiredError("--threshold");
+  if (args.labels_option->count() > 0) {
+    if (!args.tissue.empty())
+      throw CLI::ValidationError("--tissue", "not with --labels, which takes each label's voxels");
+    return run_labels(args);
+  }
+  if (!args.tissue.empty() && args.threshold_option->count() > 0)
+    throw CLI::ValidationError("--tissue", "give -t or --tissue, not both");
+  if (args.threshold_option->count() == 0 && args.tissue.empty())
+    throw CLI::RequiredError("--threshold");
   const MeshFormat format = args.mesh.format_for(args.output);  // a usage error before reading
   if (args.normals && format == MeshFormat::stl)
     throw CLI::ValidationError("--normals",
@@ -156,8 +184,26 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
   // errors, options that do not fit the input (--raw with a NRRD file, --series without DICOM).
   OpenedInput input = open_input(args.inputs, input_options);
   std::unique_ptr<SliceSource>& source = input.source;
+  double threshold = args.threshold;
+  std::string tissue_comment;
+  if (!args.tissue.empty()) {
+    check_hounsfield_input(args, *source);
+    const TissuePreset& preset = *find_tissue(args.tissue);  // checked while parsing
+    if (preset.range()) {
+      // The voxels in the range, as a 0/1 volume whose surface is at threshold 1.
+      source = std::make_unique<ValueRangeSource>(std::move(input.source), preset.low, preset.high);
+      threshold = 1;
+      char range[96];
+      std::snprintf(range, sizeof range, ", --tissue %s (%g .. %g HU)", args.tissue.c_str(),
+                    preset.low, preset.high);
+      tissue_comment = range;
+    } else {
+      threshold = preset.low;
+      tissue_comment = ", --tissue " + args.tissue + " (HU)";
+    }
+  }
   const VolumeInfo& info = source->info();
-  check_threshold_range(inputs_label(args.inputs), info.type, args.threshold);
+  check_threshold_range(inputs_label(args.inputs), info.type, threshold);
   for (const std::string& line : notes) print_message("note", line);
 
   MeshJob job;
@@ -165,7 +211,7 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - open_start).count();
   job.input_label = inputs_label(args.inputs);
   job.input_files = std::move(input.files);
-  job.threshold = args.threshold;
+  job.threshold = threshold;
   job.engine = args.engine.options();
   job.output = args.output;
   job.format = format;
@@ -173,13 +219,13 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
   job.quiet = args.quiet;
   char comment[160];
   if (job.engine.method == SurfaceMethod::cubes)
-    std::snprintf(comment, sizeof comment, "mvox marching cubes, threshold %g", args.threshold);
+    std::snprintf(comment, sizeof comment, "mvox marching cubes, threshold %g", threshold);
   else
     std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s%s",
-                  args.threshold, engine_kind_name(job.engine.kind),
+                  threshold, engine_kind_name(job.engine.kind),
                   surface_rule_name(job.engine.rule),
                   job.engine.interpolate ? ", interpolated vertices" : "");
-  std::string described = comment;
+  std::string described = comment + tissue_comment;
   if (args.smooth > 0) described += ", smoothed " + std::to_string(args.smooth) + " times";
   job.mesh = mesh_writer_options(args.mesh, info, job.input_label, described);
   job.normals = args.normals;
@@ -261,6 +307,15 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                        "positive integer in the volume. -o must hold {label}, e.g. "
                        "-o 'organ_{label}.stl'; no -t")
           ->expected(0, 1);
+  command
+      ->add_option("--tissue", args->tissue,
+                   "CT presets in Hounsfield units instead of -t: bone (>= 300), skin (>= -300, "
+                   "the body against air), fat (-190 .. -30), soft-tissue (-29 .. 150; muscle "
+                   "and organs); for CT DICOM series, or any input with --hu")
+      ->check(CLI::IsMember({"bone", "skin", "fat", "soft-tissue"}));
+  command->add_flag("--hu", args->hounsfield,
+                    "The input's values are Hounsfield units (a CT saved as NIfTI, NRRD, ...), "
+                    "for --tissue");
   command->add_flag("--largest", args->pieces.largest,
                     "Keep only the largest connected piece of the surface (most faces), per "
                     "label with --labels: drops floating specks and islands");

@@ -85,7 +85,7 @@ void write_dicom(const std::string& path, const DicomSliceSpec& spec) {
   gdcm::DataSet ds;
   put_text(ds, 0x0008, 0x0016, gdcm::VR::UI, spec.sop_class_uid);
   put_text(ds, 0x0008, 0x0018, gdcm::VR::UI, next_instance_uid());
-  put_text(ds, 0x0008, 0x0060, gdcm::VR::CS, "CT");
+  put_text(ds, 0x0008, 0x0060, gdcm::VR::CS, spec.modality);
   if (!spec.series_description.empty())
     put_text(ds, 0x0008, 0x103E, gdcm::VR::LO, spec.series_description);
   if (spec.spacing_between_slices)

@@ -29,6 +29,7 @@ struct DicomSliceSpec {
   std::vector<std::int64_t> stored;
   std::string series_uid = "1.2.826.0.1.3680043.10.543.1";
   std::string series_description;
+  std::string modality = "CT";  // (0008,0060)
   std::optional<std::int64_t> instance_number;
   std::optional<std::array<double, 3>> position;       // ImagePositionPatient
   std::optional<std::array<double, 6>> orientation;    // ImageOrientationPatient

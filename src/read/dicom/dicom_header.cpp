@@ -11,6 +11,7 @@
 namespace mvox {
 namespace {
 
+constexpr std::uint32_t kModality = dicom_tag(0x0008, 0x0060);
 constexpr std::uint32_t kSeriesDescription = dicom_tag(0x0008, 0x103E);
 constexpr std::uint32_t kSliceThickness = dicom_tag(0x0018, 0x0050);
 constexpr std::uint32_t kSpacingBetweenSlices = dicom_tag(0x0018, 0x0088);
@@ -34,7 +35,8 @@ constexpr std::uint32_t kRescaleSlope = dicom_tag(0x0028, 0x1053);
 constexpr const char* kMediaStorageDirectory = "1.2.840.10008.1.3.10";  // DICOMDIR
 
 // Sorted ascending, as scan_dicom_file needs.
-constexpr std::uint32_t kWantedTags[] = {kSeriesDescription,
+constexpr std::uint32_t kWantedTags[] = {kModality,
+                                         kSeriesDescription,
                                          kSliceThickness,
                                          kSpacingBetweenSlices,
                                          kSeriesInstanceUid,
@@ -196,6 +198,8 @@ std::optional<DicomImageHeader> read_dicom_image_header(const std::string& path,
   h.transfer_syntax_uid = scan->transfer_syntax_uid;
   h.series_uid = values.text(kSeriesInstanceUid);
   h.series_description = HeaderValues::printable(values.text(kSeriesDescription));
+  h.modality = HeaderValues::printable(values.text(kModality));
+  while (!h.modality.empty() && h.modality.back() == ' ') h.modality.pop_back();  // CS padding
   h.rows = values.us(kRows, "Rows", 0);
   h.columns = values.us(kColumns, "Columns", 0);
   if (h.rows == 0 || h.columns == 0)

@@ -13,6 +13,7 @@ struct DicomImageHeader {
   std::string transfer_syntax_uid;
   std::string series_uid;                       // (0020,000E); empty when the file has none
   std::string series_description;               // (0008,103E), printable ASCII only, for messages
+  std::string modality;                         // (0008,0060): "CT" means Hounsfield units
   std::optional<std::int64_t> instance_number;  // (0020,0013)
 
   std::uint32_t columns = 0;  // (0028,0011): samples per row, x

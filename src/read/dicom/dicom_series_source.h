@@ -44,6 +44,8 @@ class DicomSeriesSource : public SliceSource {
 
   const DicomVolumePlan& plan() const { return plan_; }
   const std::string& series_uid() const { return plan_.headers.front().series_uid; }
+  // "CT", "MR", ... as the first slice's header says; empty when it says nothing.
+  const std::string& modality() const { return plan_.headers.front().modality; }
 
  private:
   DicomVolumePlan plan_;
