@@ -158,6 +158,9 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
   if (args.labels_option->count() > 0) {
     if (!args.tissue.empty())
       throw CLI::ValidationError("--tissue", "not with --labels, which takes each label's voxels");
+    // A runner runs the job elsewhere (mvox-mpi's ranks); the label job runs on one process.
+    if (runner)
+      throw CLI::ValidationError("--labels", "one process extracts the labels: use mvox extract");
     return run_labels(args);
   }
   if (!args.tissue.empty() && args.threshold_option->count() > 0)

@@ -67,6 +67,10 @@ void check_distributable(const SliceSource& source, const MeshJob& job) {
     throw UsageError("--decimate",
                      "the simplification needs the layers on both sides of a slab's boundary, "
                      "which another rank holds: use mvox extract");
+  if (job.pieces.active())
+    throw UsageError(job.pieces.largest ? "--largest" : "--min-faces",
+                     "a piece may cross every rank's slab, and is known only once the whole "
+                     "surface is: use mvox extract");
   if (job.smooth_iterations > 0)
     throw UsageError("--smooth",
                      "smoothing needs the layers on both sides of a slab's boundary, which "
@@ -74,8 +78,8 @@ void check_distributable(const SliceSource& source, const MeshJob& job) {
   if (!own_range_reader(source))
     throw UsageError(job.input_label,
                      "mvox-mpi needs slices every rank can read on its own: image stacks, raw "
-                     "slices or volumes, NRRD or MetaImage with raw data; this input is read in "
-                     "order (a pipe, compressed data, TIFF or DICOM)");
+                     "slices or volumes, NRRD, MetaImage or NIfTI with raw data; this input is "
+                     "read in order (a pipe, compressed data, TIFF, DICOM, or a --tissue range)");
 }
 
 // One rank's share of the job, step by step (distributed_mesh_job.h).

@@ -181,6 +181,8 @@ TEST(MpiRanks, WhatRanksCannotShareIsRefusedInOneLine) {
       {input + "-o m.ply --threads 2", "--threads"},
       {input + "-o m.ply --smooth 4", "--smooth"},
       {input + "-o m.ply --decimate 0.5", "--decimate"},
+      {input + "-o m.ply --largest", "--largest"},
+      {"extract noise.raw --raw 20x20x8:u8 --labels -o 'l_{label}.ply'", "--labels"},
       {"extract /dev/stdin --raw 20x20x8:u8 -t 128 -o m.ply < noise.raw", "pipe"},
   };
   for (const Refusal& refusal : refusals) {
