@@ -207,6 +207,14 @@ LabelReport run_label_job(SliceSource& source, const LabelJob& job) {
     surface.sessions = counts.sessions;
     report.surfaces.push_back(surface);
   }
+  // Nothing to write is a failure, not an empty success: the user asked for meshes.
+  if (report.surfaces.empty())
+    throw Error(job.input_label,
+                !report.dropped.empty()
+                    ? "--min-faces dropped every piece of every label: nothing to write"
+                : job.labels.all
+                    ? "no label in the volume: every voxel is 0, negative or not a whole number"
+                    : "none of the labels asked for is in the volume");
   report.write_s = seconds_since(write_start);
   report.total_s = seconds_since(start);
   report.peak_memory_bytes = peak_resident_bytes();

@@ -54,12 +54,6 @@ std::vector<unsigned char> bytes_of(const std::vector<std::uint8_t>& v) {
   return std::vector<unsigned char>(v.begin(), v.end());
 }
 
-std::string ply_data(const std::string& path) {
-  const std::string bytes = test::read_bytes(path);
-  const std::size_t end = bytes.find("end_header\n");
-  return end == std::string::npos ? "" : bytes.substr(end + 11);
-}
-
 const char* kRaw = "--raw 40x40x40:u8";
 
 TEST(LabelsCli, EachLabelIsTheSurfaceOfItsOwnMaskAndClosed) {
@@ -79,7 +73,7 @@ TEST(LabelsCli, EachLabelIsTheSurfaceOfItsOwnMaskAndClosed) {
                   .exit_code,
               0);
     const std::string file = dir / ("organ_" + std::to_string(label) + ".ply");
-    EXPECT_TRUE(ply_data(file) == ply_data(dir / "mask.ply"));
+    EXPECT_TRUE(test::ply_body(file) == test::ply_body(dir / "mask.ply"));
     const test::Topology topology = test::analyse(test::to_mesh(read_ply(file)));
     EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
     EXPECT_GT(topology.signed_volume, 0);
@@ -130,6 +124,10 @@ TEST(LabelsCli, OptionsThatDoNotFitAreUsageErrorsAndAFailureLeavesNothing) {
     expect_one_line_error(run_mvox(command, dir.path()), problem, 2);
     EXPECT_EQ(dir.listing(), before) << command;
   }
+  // Asking for labels that are not there fails, and writes nothing.
+  expect_one_line_error(run_mvox(job + " 5,6 -o 'a_{label}.ply'", dir.path()),
+                        "none of the labels asked for is in the volume");
+  EXPECT_EQ(dir.listing(), before);
   // Without --labels, -t is still required.
   expect_one_line_error(run_mvox(std::string("extract labels.raw ") + kRaw + " -o a.ply", dir.path()),
                         "--threshold is required", 2);
@@ -192,8 +190,8 @@ TEST(LabelsCli, ACtheadSegmentationGivesEachTissueItsClosedSurface) {
                      dir.path())
                 .exit_code,
             0);
-  EXPECT_TRUE(ply_data(dir / "tissue_2.ply") == ply_data(dir / "bone.ply"));
-  EXPECT_TRUE(ply_data(dir / "tissue_1.ply") == ply_data(dir / "skin.ply"));
+  EXPECT_TRUE(test::ply_body(dir / "tissue_2.ply") == test::ply_body(dir / "bone.ply"));
+  EXPECT_TRUE(test::ply_body(dir / "tissue_1.ply") == test::ply_body(dir / "skin.ply"));
   for (const char* file : {"tissue_1.ply", "tissue_2.ply"}) {
     const test::Topology topology = test::analyse(test::to_mesh(read_ply(dir / file)));
     EXPECT_TRUE(topology.closed_and_consistent()) << file << ": " << test::describe(topology);

@@ -46,19 +46,13 @@ std::vector<unsigned char> volume(Keep keep) {
   return v;
 }
 
-std::string ply_data(const std::string& path) {
-  const std::string bytes = test::read_bytes(path);
-  const std::size_t end = bytes.find("end_header\n");
-  return end == std::string::npos ? "" : bytes.substr(end + 11);
-}
-
 const std::string kRaw = " --raw 48x48x48:u8 ";
 
 // The PLY data of `volume` at threshold 1.
 std::string reference(const ScratchDirectory& dir, const std::vector<unsigned char>& v) {
   test::volume_files::write_file(dir / "ref.raw", "", v);
   EXPECT_EQ(run_mvox("extract ref.raw" + kRaw + "-t 1 -o ref.ply -q", dir.path()).exit_code, 0);
-  return ply_data(dir / "ref.ply");
+  return test::ply_body(dir / "ref.ply");
 }
 
 TEST(PiecesCli, LargestKeepsTheBiggestBallAndMinFacesTheBallsAboveIt) {
@@ -68,7 +62,7 @@ TEST(PiecesCli, LargestKeepsTheBiggestBallAndMinFacesTheBallsAboveIt) {
                      dir.path())
                 .exit_code,
             0);
-  EXPECT_TRUE(ply_data(dir / "big.ply") == reference(dir, volume([](std::size_t b) { return b == 0; })));
+  EXPECT_TRUE(test::ply_body(dir / "big.ply") == reference(dir, volume([](std::size_t b) { return b == 0; })));
   const std::string report = test::read_bytes(dir / "s.json");
   EXPECT_NE(report.find("\"pieces\": 4, \"pieces_kept\": 1"), std::string::npos) << report;
   // The pieces have 1904, 584, 176 and 8 polygons (a voxel alone is an octahedron): 200
@@ -76,12 +70,12 @@ TEST(PiecesCli, LargestKeepsTheBiggestBallAndMinFacesTheBallsAboveIt) {
   ASSERT_EQ(run_mvox("extract all.raw" + kRaw + "-t 1 -o some.ply --min-faces 200 -q", dir.path())
                 .exit_code,
             0);
-  EXPECT_TRUE(ply_data(dir / "some.ply") == reference(dir, volume([](std::size_t b) { return b < 2; })));
+  EXPECT_TRUE(test::ply_body(dir / "some.ply") == reference(dir, volume([](std::size_t b) { return b < 2; })));
   ASSERT_EQ(run_mvox("extract all.raw" + kRaw + "-t 1 -o specks.ply --min-faces 9 --format ply -q",
                      dir.path())
                 .exit_code,
             0);
-  EXPECT_TRUE(ply_data(dir / "specks.ply") == reference(dir, volume([](std::size_t b) { return b < 3; })))
+  EXPECT_TRUE(test::ply_body(dir / "specks.ply") == reference(dir, volume([](std::size_t b) { return b < 3; })))
       << "--min-faces 9 drops the voxel alone (8 faces) and nothing else";
 }
 
@@ -94,8 +88,8 @@ TEST(PiecesCli, WithLabelsEachLabelKeepsItsOwnLargestPiece) {
             0);
   // Label 1's largest is ball 0; label 2's is ball 2 (the voxel is the smaller piece). As masks,
   // the kept balls have label 1 and 2 both at threshold 1.
-  EXPECT_TRUE(ply_data(dir / "l_1.ply") == reference(dir, volume([](std::size_t b) { return b == 0; })));
-  EXPECT_TRUE(ply_data(dir / "l_2.ply") == reference(dir, volume([](std::size_t b) { return b == 2; })));
+  EXPECT_TRUE(test::ply_body(dir / "l_1.ply") == reference(dir, volume([](std::size_t b) { return b == 0; })));
+  EXPECT_TRUE(test::ply_body(dir / "l_2.ply") == reference(dir, volume([](std::size_t b) { return b == 2; })));
   // A label whose every piece is dropped gets no file.
   ASSERT_EQ(run_mvox("extract labels.raw" + kRaw + "--labels -o 'm_{label}.ply' --min-faces 200 "
                      "--stats s.json -q",

@@ -62,12 +62,6 @@ void write_raw(const ScratchDirectory& dir, int low, int high) {
   test::volume_files::write_file(dir / "mask.raw", "", mask);
 }
 
-std::string ply_data(const std::string& path) {
-  const std::string bytes = test::read_bytes(path);
-  const std::size_t end = bytes.find("end_header\n");
-  return end == std::string::npos ? "" : bytes.substr(end + 11);
-}
-
 const std::string kRaw = " --raw 20x18x14:i16le ";
 
 TEST(TissueCli, ThresholdPresetsAreTheirHounsfieldThresholds) {
@@ -83,8 +77,8 @@ TEST(TissueCli, ThresholdPresetsAreTheirHounsfieldThresholds) {
     ASSERT_EQ(run_mvox("extract hu.raw" + kRaw + "-t " + threshold + " -o r.ply -q", dir.path())
                   .exit_code,
               0);
-    EXPECT_TRUE(ply_data(dir / "t.ply") == ply_data(dir / "r.ply"));
-    EXPECT_GT(ply_data(dir / "t.ply").size(), 100u);
+    EXPECT_TRUE(test::ply_body(dir / "t.ply") == test::ply_body(dir / "r.ply"));
+    EXPECT_GT(test::ply_body(dir / "t.ply").size(), 100u);
   }
 }
 
@@ -100,8 +94,8 @@ TEST(TissueCli, RangePresetsAreTheSurfaceOfTheVoxelsInTheirRange) {
     ASSERT_EQ(run.exit_code, 0) << run.output;
     ASSERT_EQ(run_mvox("extract mask.raw --raw 20x18x14:u8 -t 1 -o m.ply -q", dir.path()).exit_code,
               0);
-    EXPECT_TRUE(ply_data(dir / "t.ply") == ply_data(dir / "m.ply"));
-    EXPECT_GT(ply_data(dir / "t.ply").size(), 100u);
+    EXPECT_TRUE(test::ply_body(dir / "t.ply") == test::ply_body(dir / "m.ply"));
+    EXPECT_GT(test::ply_body(dir / "t.ply").size(), 100u);
   }
 }
 

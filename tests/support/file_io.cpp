@@ -36,4 +36,10 @@ bool exists(const std::string& path) {
   return ::stat(path.c_str(), &status) == 0;
 }
 
+std::string ply_body(const std::filesystem::path& path) {
+  const std::string bytes = read_bytes(path);
+  const std::size_t end = bytes.find("end_header\n");
+  return end == std::string::npos ? "" : bytes.substr(end + 11);
+}
+
 }  // namespace mvox::test

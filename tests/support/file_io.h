@@ -18,6 +18,10 @@ void write_bytes(const std::filesystem::path& path, const std::vector<unsigned c
 // An empty file at `path`, creating the directories above it first.
 void touch(const std::filesystem::path& path);
 
+// The bytes after a PLY file's header: the mesh itself, without the comment lines that name
+// the input, so that meshes from different inputs compare ("" without a header).
+std::string ply_body(const std::filesystem::path& path);
+
 // True when `path` names something (stat() succeeds: a dangling link does not count).
 bool exists(const std::string& path);
 
