@@ -259,6 +259,9 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
     if (args.normals)
       throw CLI::ValidationError(option, "not with --normals, whose slices are gone when the "
                                          "pieces are known");
+    if (args.decimate > 0 || args.max_error > 0)
+      throw CLI::ValidationError(option, "not with --decimate or --max-error, whose triangles "
+                                         "come out long after their vertices");
     job.pieces = args.pieces;
   }
   job.picture = args.picture.options();

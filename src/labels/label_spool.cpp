@@ -24,11 +24,13 @@ class LabelSpool::Session final : public PolygonSink {
   Status consume_polygons(const Polygon* polygons, std::size_t count) override {
     return guarded([&] {
       // Indices modulo 2^32, as polygons carry them (mvox/mesh.h): the move wraps with them.
-      moved_.assign(polygons, polygons + count);
+      // One buffer for every session: a label map may have a hundred thousand labels.
+      std::vector<Polygon>& moved = spool_.moved_;
+      moved.assign(polygons, polygons + count);
       if (base_ != 0)
-        for (Polygon& polygon : moved_)
+        for (Polygon& polygon : moved)
           for (int k = 0; k < polygon.vertex_count; ++k) polygon.vertices[k] += base_;
-      spool_.record(label_, Kind::polygons, moved_.data(), sizeof(Polygon), count);
+      spool_.record(label_, Kind::polygons, moved.data(), sizeof(Polygon), count);
       spool_.counts_[label_].polygons += count;
     });
   }
@@ -58,7 +60,6 @@ class LabelSpool::Session final : public PolygonSink {
   LabelSpool& spool_;
   std::uint32_t label_;
   std::uint32_t base_ = 0;
-  std::vector<Polygon> moved_;
   std::optional<Error> error_;
 };
 

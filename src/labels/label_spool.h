@@ -64,6 +64,7 @@ class LabelSpool {
   std::map<std::uint32_t, std::unique_ptr<Session>> sessions_;
   std::uint64_t index_bytes_ = 0;
   std::vector<unsigned char> read_buffer_;
+  std::vector<Polygon> moved_;  // a session's polygon batch with its indices moved
 };
 
 }  // namespace mvox

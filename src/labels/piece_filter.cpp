@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include "error.h"
 #include "write/scratch_file.h"
@@ -22,6 +23,9 @@ std::size_t ring_size(std::uint64_t slice_pixels) {
 class Pieces {
  public:
   std::uint32_t add() {
+    // Piece numbers are 32-bit, kNoPiece the last: a surface of four billion starts is refused.
+    if (parent_.size() >= kNoPiece)
+      throw Error("--largest/--min-faces", "more than 4294967294 piece starts");
     parent_.push_back(static_cast<std::uint32_t>(parent_.size()));
     faces_.push_back(0);
     return parent_.back();
@@ -143,6 +147,10 @@ class PieceWriter final : public PolygonSink {
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint32_t piece = piece_of_[i];
       const bool keep = piece != kNoPiece && kept_[pieces_.find(piece)];
+      // New indices are 32-bit with kNoPiece marking a dropped vertex: PLY and STL cannot hold
+      // more vertices than that anyway.
+      if (keep && written_ >= kNoPiece)
+        throw Error("--largest/--min-faces", "more than 4294967294 vertices kept");
       ring_.at(static_cast<std::uint32_t>(vertices_ + i)) =
           keep ? static_cast<std::uint32_t>(written_++) : kNoPiece;
       if (keep) kept_vertices_.push_back(vertices[i]);
@@ -194,31 +202,39 @@ class PieceWriter final : public PolygonSink {
 
 }  // namespace
 
+std::uint64_t piece_filter_bytes(std::uint64_t slice_pixels) {
+  return ring_size(slice_pixels) * sizeof(std::uint32_t);
+}
+
 Status write_kept_pieces(LabelSpool& spool, std::uint32_t label, std::uint64_t slice_pixels,
                          const PieceRule& rule, const std::string& scratch_directory,
                          PolygonSink& sink, PieceCounts* counts) {
   *counts = PieceCounts();
   const std::size_t ring = ring_size(slice_pixels);
   ScratchFile pieces_file(scratch_directory, "--largest/--min-faces");
-  PieceFinder finder(ring, pieces_file, "--largest/--min-faces");
-  Status status = spool.replay(label, finder);
-  if (status != Status::ok) return status;
-  finder.finish();
-  Pieces& pieces = finder.pieces();
+  Pieces pieces;
+  {
+    // Pass 1; its ring goes before pass 2 makes its own.
+    PieceFinder finder(ring, pieces_file, "--largest/--min-faces");
+    const Status status = spool.replay(label, finder);
+    if (status != Status::ok) return status;
+    finder.finish();
+    pieces = std::move(finder.pieces());
+  }
   counts->piece_starts = pieces.size();
 
   std::vector<bool> kept(pieces.size(), false);
   std::uint32_t largest = kNoPiece;
-  for (std::uint32_t piece = 0; piece < pieces.size(); ++piece) {
+  for (std::uint32_t piece = 0; piece < static_cast<std::uint32_t>(pieces.size()); ++piece) {
     if (pieces.find(piece) != piece) continue;
     ++counts->pieces;
     if (largest == kNoPiece || pieces.faces(piece) > pieces.faces(largest)) largest = piece;
     kept[piece] = pieces.faces(piece) >= rule.min_faces;
   }
   if (rule.largest)
-    for (std::uint32_t piece = 0; piece < pieces.size(); ++piece)
+    for (std::uint32_t piece = 0; piece < static_cast<std::uint32_t>(pieces.size()); ++piece)
       kept[piece] = kept[piece] && piece == largest;
-  for (std::uint32_t piece = 0; piece < pieces.size(); ++piece)
+  for (std::uint32_t piece = 0; piece < static_cast<std::uint32_t>(pieces.size()); ++piece)
     counts->pieces_kept += kept[piece] && pieces.find(piece) == piece;
 
   PieceWriter writer(ring, pieces_file, pieces, kept, sink, *counts);

@@ -31,6 +31,10 @@ struct PieceCounts {
   std::uint64_t piece_starts = 0;  // union-find entries: the memory that grows (16 bytes each)
 };
 
+// The memory write_kept_pieces takes besides the pieces (16 bytes per piece start): its vertex
+// ring for slices of `slice_pixels` pixels, one pass at a time.
+std::uint64_t piece_filter_bytes(std::uint64_t slice_pixels);
+
 // Writes `label`'s spooled surface into `sink`, keeping the pieces `rule` keeps. `slice_pixels`
 // (width * height) sizes the ring. Throws mvox::Error (the spool's read errors, or a polygon
 // referring further back than the ring, which the engine never does); returns the sink's first

@@ -20,6 +20,7 @@
 #include "pipeline/termination.h"
 #include "labels/label_spool.h"
 #include "postprocess/edge_smoothing.h"
+#include "write/buffered_writer.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
 #include "write/slice_image_writer.h"
@@ -175,6 +176,10 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     if (job.smooth_iterations > 0)
       plan.add("smoothing (" + std::to_string(job.smooth_iterations + 3) + " layers held)",
                EdgeSmoothing::layer_bytes(info.width, info.height) * (job.smooth_iterations + 3));
+    if (job.pieces.active())
+      plan.add("connected pieces (vertex ring and spool buffers; the pieces themselves grow)",
+               piece_filter_bytes(std::uint64_t{info.width} * info.height) +
+                   2 * BufferedWriter::kBufferBytes);
   }
   if (picture) {
     // The z-buffer, and an encoded picture or frame: at most about one byte a pixel for the
@@ -289,10 +294,9 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   // --largest / --min-faces: the mesh goes to a spool first, and its kept pieces to the writer
   // after extraction.
   std::optional<LabelSpool> spool;
-  const std::string spool_directory = [&] {
-    const std::filesystem::path path(job.output == "-" ? "." : job.output);
-    return path.has_parent_path() ? path.parent_path().string() : std::string(".");
-  }();
+  // Beside the output, or in the temporary directory for standard output and devices.
+  const std::string spool_directory =
+      writer && writer->output_file() ? writer->output_file()->scratch_directory() : ".";
   if (writer && job.pieces.active()) spool.emplace(spool_directory, job.output);
   PipelineSinks sinks;
   if (writer) sinks.mesh = spool ? &spool->session(1) : &*writer;

@@ -1,6 +1,7 @@
 #include "read/stored_volume_source.h"
 
 #include <algorithm>
+#include <limits>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
@@ -38,7 +39,11 @@ void to_f32(unsigned char* bytes, std::size_t count, double slope, double interc
     const double value = slope == 1 && intercept == 0
                              ? static_cast<double>(stored)
                              : slope * static_cast<double>(stored) + intercept;
-    const auto sample = static_cast<float>(value);
+    // Beyond float's range the conversion is undefined: those samples become infinities.
+    constexpr double kLargest = std::numeric_limits<float>::max();
+    const float sample = value > kLargest    ? std::numeric_limits<float>::infinity()
+                         : value < -kLargest ? -std::numeric_limits<float>::infinity()
+                                             : static_cast<float>(value);
     std::memcpy(bytes + i * sizeof(float), &sample, sizeof(float));
   };
   if (sizeof(Stored) <= sizeof(float)) {
@@ -161,6 +166,28 @@ std::unique_ptr<SliceSource> StoredVolumeSource::open_range(std::uint32_t first,
   return range;
 }
 
+void StoredVolumeSource::check_exact_in_float(const unsigned char* bytes,
+                                              std::size_t count) const {
+  constexpr std::int64_t kExact = std::int64_t{1} << 24;  // floats hold every integer up to it
+  for (std::size_t i = 0; i < count; ++i) {
+    std::int64_t value;
+    if (volume_.stored == StoredSample::i32) {
+      std::int32_t v;
+      std::memcpy(&v, bytes + 4 * i, 4);
+      value = v;
+    } else {
+      std::uint32_t v;
+      std::memcpy(&v, bytes + 4 * i, 4);
+      value = v;
+    }
+    if (value > kExact || value < -kExact)
+      throw Error(data_.path, "slice " + std::to_string(next_index_) + " holds " +
+                                  std::to_string(value) +
+                                  ", beyond 16777216: 32-bit integers become floats, which hold "
+                                  "whole numbers exactly only up to that (labels would merge)");
+  }
+}
+
 bool StoredVolumeSource::next_slice(SliceView* slice) {
   if (next_index_ >= end_index_) return false;
   const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
@@ -181,6 +208,9 @@ bool StoredVolumeSource::next_slice(SliceView* slice) {
   const std::size_t samples = stored_bytes / bytes_per_sample;
   swap_to_native(buffer_.data(), samples, bytes_per_sample, volume_.byte_order);
   if (volume_.info.type == SampleType::f32) {
+    if ((volume_.stored == StoredSample::i32 || volume_.stored == StoredSample::u32) &&
+        !volume_.scaled())
+      check_exact_in_float(buffer_.data(), samples);
     if (volume_.stored != StoredSample::f32 || volume_.scaled())
       convert_to_f32(volume_.stored, buffer_.data(), samples, volume_.scale_slope,
                      volume_.scale_intercept);

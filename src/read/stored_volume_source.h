@@ -64,6 +64,8 @@ class StoredVolumeSource : public SliceSource, public RangeReadable {
   void check_raw_size();
   void check_compressed_size();
   std::string volume_text() const;  // "a 7x5x4 u16 volume (from tooth.nhdr)" for messages
+  // Throws mvox::Error for a 32-bit integer sample (native order) that a float cannot hold.
+  void check_exact_in_float(const unsigned char* bytes, std::size_t count) const;
 
   StoredVolume volume_;
   StoredVolumeData data_;

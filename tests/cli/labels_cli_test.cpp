@@ -144,6 +144,36 @@ TEST(LabelsCli, OptionsThatDoNotFitAreUsageErrorsAndAFailureLeavesNothing) {
   EXPECT_EQ(dir.listing(), with_cut) << "a mesh or the spool was left behind";
 }
 
+// The number in `report` after "\"KEY\": ".
+std::uint64_t report_number(const std::string& report, const std::string& key) {
+  const std::size_t at = report.find("\"" + key + "\": ");
+  return at == std::string::npos ? 0 : std::stoull(report.substr(at + key.size() + 4));
+}
+
+TEST(LabelsCli, MemoryFollowsTheLabelsAtOnceNotTheLabelsInTheVolume) {
+  // 600 labels, two slices each, one after the other: never more than two engines, and the
+  // 600 files wait to be published holding no buffers (a writer kept its batches once: 65 MB).
+  constexpr int kSide = 32, kDepth = 1200;
+  std::vector<std::uint16_t> labels;
+  for (int z = 0; z < kDepth; ++z)
+    for (int y = 0; y < kSide; ++y)
+      for (int x = 0; x < kSide; ++x)
+        labels.push_back(x >= 4 && x < 28 && y >= 4 && y < 28 ? static_cast<std::uint16_t>(z / 2 + 1) : 0);
+  ScratchDirectory dir;
+  test::volume_files::write_file(dir / "many.raw", "", test::sample_bytes_of(labels));
+  fs::create_directories(dir / "out");
+  const test::CommandResult run = run_mvox(
+      "extract many.raw --raw 32x32x1200:u16le --labels -o 'out/m_{label}.stl' --stats s.json -q",
+      dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string report = test::read_bytes(dir / "s.json");
+  EXPECT_EQ(report_number(report, "most_engines_at_once"), 2u) << report;
+  EXPECT_TRUE(fs::exists(dir / "out/m_600.stl"));
+  const std::uint64_t grown =
+      report_number(report, "peak_bytes") - report_number(report, "start_bytes");
+  EXPECT_LT(grown, std::uint64_t{12} << 20) << report;
+}
+
 // CThead (../shared/datasets) segmented into skin (600 <= value < 1200) and bone (>= 1200),
 // written as a NIfTI label map with CThead's voxel size: bone's surface is the single-threshold
 // surface at 1200, and skin's is the surface of its own mask, both closed. The middle 128x128

@@ -110,6 +110,8 @@ TEST(PiecesCli, PiecesNeedAMeshAndNoPictureOrNormals) {
   expect_one_line_error(run_mvox(job + "-o m.ply --min-faces 5 --normals", dir.path()),
                         "--min-faces: not with --normals", 2);
   expect_one_line_error(run_mvox(job + "-o m.ply --min-faces 0", dir.path()), "--min-faces", 2);
+  expect_one_line_error(run_mvox(job + "-o m.ply --largest --decimate 0.5", dir.path()),
+                        "--largest: not with --decimate", 2);
   expect_one_line_error(run_mvox(job + "--largest --image p.png", dir.path()),
                         "--largest: keeps pieces of the mesh: give -o", 2);
 }

@@ -123,6 +123,22 @@ TEST(NiftiReader, EverySampleTypeInEveryContainerVersionAndByteOrder) {
   }
 }
 
+TEST(NiftiReader, Int32SamplesThatAFloatCannotHoldAreRefused) {
+  // 16777217 would become 16777216 as a float: two labels merged without a word.
+  std::vector<std::int32_t> values(kCount, 3);
+  values[kCount - 1] = 16777217;
+  NiftiFile file = volume_of(8, 32, test::sample_bytes_of(values));
+  ScratchDirectory dir;
+  write_nifti(dir / "big.nii", file);
+  try {
+    read_volume<float>(dir / "big.nii");
+    ADD_FAILURE() << "read";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("holds 16777217, beyond 16777216"), std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(NiftiReader, SclSlopeAndSclInterScaleTheSamplesToFloat) {
   const auto stored = values_for<std::int16_t>(-100, 3000);
   NiftiFile file = volume_of(4, 16, {});

@@ -244,6 +244,13 @@ void MeshWriter::complete() {
     error_ = error;
     throw;
   }
+  // A completed file waits only to be published (one per label, mvox extract --labels): its
+  // batch buffers go now.
+  std::vector<glm::vec3>().swap(normal_batch_);
+  std::vector<WorldVertex>().swap(vertex_batch_);
+  std::vector<Polygon>().swap(faces_);
+  std::vector<FacePositions>().swap(face_positions_);
+  std::vector<Polygon>().swap(pending_);
   finished_ = true;
 }
 
