@@ -163,6 +163,13 @@ CPUs with AVX2, chosen at start-up, by two lane permutations of the running indi
   "$root/bench/writer_speed.sh" "$root/build/src/mvox" "$big/engine1024.raw" 1024x1024x1024 100 "$runs"
   rm -rf "$big"
   echo
+  echo "## Label maps: \`--labels\` on an atlas"
+  echo
+  echo "\`bench/label_atlas.sh build/src/mvox 150 256\`: a 256^3 uint16 NIfTI label map of Voronoi"
+  echo "cells in a ball, every label touching several others."
+  echo
+  "$root/bench/label_atlas.sh" "$root/build/src/mvox" 150 256
+  echo
   echo "## Reading these figures"
   echo
   echo "- The literal engine is the reference implementation of the paper's passes (per-voxel"
