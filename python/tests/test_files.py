@@ -112,3 +112,36 @@ def test_threads_give_the_same_mesh(tmp_path, options):
             assert np.array_equal(many.faces, one.faces)
     with pytest.raises(ValueError, match="threads"):
         mvox.extract_file(tmp_path / "v.raw", 128, raw="24x20x300:u8", threads=0)
+
+
+def write_nifti_gz(path, volume, spacing=(0.5, 0.75, 2.0), origin=(10.0, -4.0, 3.5)):
+    """A NIfTI-1 .nii.gz placed by its sform: header fields packed at nifti1.h's offsets."""
+    import gzip
+    import struct
+    depth, height, width = volume.shape
+    code, bits = {np.uint8: (2, 8), np.int16: (4, 16), np.uint16: (512, 16),
+                  np.float32: (16, 32)}[volume.dtype.type]
+    header = bytearray(352)
+    struct.pack_into("<i", header, 0, 348)
+    struct.pack_into("<8h", header, 40, 3, width, height, depth, 1, 1, 1, 1)
+    struct.pack_into("<hh", header, 70, code, bits)
+    struct.pack_into("<8f", header, 76, 1, *spacing, 1, 1, 1, 1)
+    struct.pack_into("<f", header, 108, 352)
+    header[123] = 2  # millimetres
+    struct.pack_into("<h", header, 254, 1)  # sform_code
+    struct.pack_into("<12f", header, 280, spacing[0], 0, 0, origin[0], 0, spacing[1], 0, origin[1],
+                     0, 0, spacing[2], origin[2])
+    header[344:348] = b"n+1\0"
+    with gzip.open(path, "wb") as out:
+        out.write(bytes(header) + volume.astype(volume.dtype.newbyteorder("<")).tobytes())
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.float32])
+def test_a_nifti_file_gives_its_samples_and_placement(tmp_path, dtype):
+    volume = blobs(dtype)
+    write_nifti_gz(tmp_path / "v.nii.gz", volume)
+    opened = mvox.open(tmp_path / "v.nii.gz")
+    assert opened.shape == volume.shape and opened.dtype == volume.dtype
+    assert opened.spacing == pytest.approx((0.5, 0.75, 2.0))
+    assert opened.origin == pytest.approx((10.0, -4.0, 3.5))
+    assert np.array_equal(np.stack(list(opened)), volume)
