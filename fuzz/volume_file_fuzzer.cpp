@@ -1,8 +1,9 @@
-// Fuzzes whole NRRD and MetaImage files, header and data, through the readers behind
+// Fuzzes whole NRRD, MetaImage and NIfTI files, header and data, through the readers behind
 // `mvox extract` (src/read/nrrd/nrrd_file.h, src/read/metaimage/metaimage_file.h,
-// src/read/stored_volume_source.h).
+// src/read/nifti/nifti_file.h, src/read/stored_volume_source.h).
 //
-// Input: one byte choosing the format (even: NRRD, odd: MetaImage), then the file. Properties:
+// Input: one byte choosing the format (modulo 4: 0 NRRD, 1 MetaImage, 2 NIfTI .nii, 3 NIfTI
+// .nii.gz), then the file. Properties:
 // a file is refused with one printable line, or it streams exactly the declared slices; and
 // what it costs stays in proportion to its bytes: the reader's working memory never exceeds
 // what the file's bytes can decode to at deflate's largest ratio (compression_bounds.h). Run
@@ -17,21 +18,26 @@
 #include "memory_file.h"
 #include "read/compression_bounds.h"
 #include "read/metaimage/metaimage_file.h"
+#include "read/nifti/nifti_file.h"
 #include "read/nrrd/nrrd_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  const bool metaimage = data[0] & 1;
+  const int format = data[0] % 4;
   const std::string& path = mvox::fuzz::memory_file_with(data + 1, size - 1);
   try {
     std::unique_ptr<mvox::StoredVolumeSource> source =
-        metaimage ? mvox::open_metaimage_volume(path) : mvox::open_nrrd_volume(path);
+        format == 0   ? mvox::open_nrrd_volume(path)
+        : format == 1 ? mvox::open_metaimage_volume(path)
+                      : mvox::open_nifti_file(path, format == 3);
     const mvox::VolumeInfo& info = source->info();
     const std::uint64_t slice =
         std::uint64_t{info.width} * info.height * mvox::sample_bytes(info.type);
-    // Widened signed bytes take two bytes a sample, so twice deflate's ratio bounds a slice.
+    // Widened signed bytes take two bytes a sample, so twice deflate's ratio bounds a slice;
+    // NIfTI's scaled bytes become floats, four bytes a sample.
+    const std::uint64_t widening = format >= 2 ? 4 : 2;
     MVOX_FUZZ_CHECK(
-        mvox::could_decode_to(size, 2 * mvox::kDeflateMaxRatio, slice),
+        mvox::could_decode_to(size, widening * mvox::kDeflateMaxRatio, slice),
         "a slice of " + std::to_string(slice) + " bytes from a file of " + std::to_string(size));
     mvox::SliceView view;
     std::uint32_t slices = 0;

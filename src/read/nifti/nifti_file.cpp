@@ -64,10 +64,11 @@ std::string image_file_of(const std::string& header_path) {
 
 }  // namespace
 
-std::unique_ptr<StoredVolumeSource> open_nifti_volume(const std::string& path) {
-  const bool pair = ends_with(path, ".hdr");
+namespace {
+
+std::unique_ptr<StoredVolumeSource> open_nifti(const std::string& path, bool pair, bool gzipped) {
   RawFile header_file(path);
-  const NiftiHeader header = read_header(header_file, ends_with(path, ".gz"));
+  const NiftiHeader header = read_header(header_file, gzipped);
   if (pair == header.single_file)
     throw Error(path, pair ? "a .hdr file whose magic says the samples follow in the same file "
                              "(n+1/n+2); name it .nii"
@@ -78,7 +79,7 @@ std::unique_ptr<StoredVolumeSource> open_nifti_volume(const std::string& path) {
   StoredVolumeData data;
   data.header = path;
   data.path = pair ? image_file_of(path) : path;
-  if (ends_with(data.path, ".gz")) {
+  if (pair ? ends_with(data.path, ".gz") : gzipped) {
     // The whole file is one gzip stream; the samples start vox_offset bytes into it.
     volume.compression = Compression::gzip;
     data.skip_decompressed = header.vox_offset;
@@ -86,6 +87,16 @@ std::unique_ptr<StoredVolumeSource> open_nifti_volume(const std::string& path) {
     data.offset = header.vox_offset;
   }
   return std::make_unique<StoredVolumeSource>(volume, data);
+}
+
+}  // namespace
+
+std::unique_ptr<StoredVolumeSource> open_nifti_volume(const std::string& path) {
+  return open_nifti(path, ends_with(path, ".hdr"), ends_with(path, ".gz"));
+}
+
+std::unique_ptr<StoredVolumeSource> open_nifti_file(const std::string& path, bool gzipped) {
+  return open_nifti(path, false, gzipped);
 }
 
 const InputFormat& nifti_volume_format() {

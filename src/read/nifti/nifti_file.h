@@ -14,6 +14,10 @@ namespace mvox {
 // file for a header problem, a missing .img, or samples that are short or corrupt.
 std::unique_ptr<StoredVolumeSource> open_nifti_volume(const std::string& path);
 
+// The same for a one-file NIfTI (header and samples), gzipped or not whatever its name: for
+// callers whose path says nothing (the fuzz target's in-memory file).
+std::unique_ptr<StoredVolumeSource> open_nifti_file(const std::string& path, bool gzipped);
+
 struct InputFormat;
 
 // The input-format row (read/input_format.h) of NIfTI volumes: one .nii, .nii.gz or .hdr file,
