@@ -4,9 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <set>
 #include <string>
 
 #include "cli_mesh_checks.h"
@@ -35,23 +33,14 @@ TEST(InterpolateCli, EveryFormatHoldsTheMovedVerticesAndTheSameFaces) {
     expect_success(std::string("extract stack -t 100 -q ") + outputs, dir);
   const PlyMesh midpoints = read_ply(dir / "midpoints.ply");
   const PlyMesh moved = read_ply(dir / "moved.ply");
-  ASSERT_GT(moved.face_count(), 500u);
-  EXPECT_EQ(moved.face_offsets, midpoints.face_offsets);
-  EXPECT_EQ(moved.face_indices, midpoints.face_indices);
-  EXPECT_GT(test::vertices_moved_along_edges(midpoints, moved, 0.5f), moved.vertex_count() / 2);
-  const test::Topology topology = test::analyse(test::to_mesh(moved));
-  EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
+  test::expect_engines_faces_with_moved_vertices(midpoints, moved);
 
   const test::ObjFile obj = test::read_obj(dir / "moved.obj");
   EXPECT_EQ(obj.positions, moved.positions);
   EXPECT_EQ(obj.faces.size(), moved.face_count());
 
   // STL: triangles by value, each corner one of the PLY's moved vertices, welded closed.
-  const test::StlFile stl = test::read_stl(dir / "moved.stl");
-  const std::set<std::array<float, 3>> corners(moved.positions.begin(), moved.positions.end());
-  for (const test::StlTriangle& triangle : stl.triangles)
-    for (const auto& corner : triangle.vertices)
-      ASSERT_EQ(corners.count({corner[0], corner[1], corner[2]}), 1u);
+  const test::StlFile stl = test::expect_corners_among(dir / "moved.stl", moved);
   EXPECT_EQ(test::normal_problems(stl), "");
   const test::Topology welded = test::analyse(test::welded(stl));
   EXPECT_EQ(welded.vertices, moved.vertex_count());

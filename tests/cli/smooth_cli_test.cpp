@@ -5,9 +5,7 @@
 // tests/host/edge_smoothing_test.cpp.)
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cmath>
-#include <set>
 #include <string>
 
 #include "cli_mesh_checks.h"
@@ -37,19 +35,10 @@ TEST(SmoothCli, EveryFormatHoldsTheSmoothedVerticesAndTheEnginesFaces) {
     expect_success(std::string("extract stack -t 100 -q ") + outputs, dir);
   const PlyMesh plain = read_ply(dir / "plain.ply");
   const PlyMesh smooth = read_ply(dir / "smooth.ply");
-  ASSERT_GT(smooth.face_count(), 500u);
-  EXPECT_EQ(smooth.face_offsets, plain.face_offsets);
-  EXPECT_EQ(smooth.face_indices, plain.face_indices);
-  EXPECT_GT(test::vertices_moved_along_edges(plain, smooth, 0.5f), smooth.vertex_count() / 2);
-  const test::Topology topology = test::analyse(test::to_mesh(smooth));
-  EXPECT_TRUE(topology.closed_and_consistent()) << test::describe(topology);
+  test::expect_engines_faces_with_moved_vertices(plain, smooth);
 
   EXPECT_EQ(test::read_obj(dir / "smooth.obj").positions, smooth.positions);
-  const test::StlFile stl = test::read_stl(dir / "smooth.stl");
-  const std::set<std::array<float, 3>> corners(smooth.positions.begin(), smooth.positions.end());
-  for (const test::StlTriangle& triangle : stl.triangles)
-    for (const auto& corner : triangle.vertices)
-      ASSERT_EQ(corners.count({corner[0], corner[1], corner[2]}), 1u);
+  const test::StlFile stl = test::expect_corners_among(dir / "smooth.stl", smooth);
   EXPECT_TRUE(test::analyse(test::welded(stl)).closed_and_consistent());
 
   // Normals at the smoothed positions: the same vertices, and a unit normal each.

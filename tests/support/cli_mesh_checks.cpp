@@ -2,7 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <set>
+
+#include "mesh_topology.h"
+#include "ply_mesh.h"
 
 namespace mvox::test {
 
@@ -33,6 +38,26 @@ std::size_t vertices_moved_along_edges(const PlyMesh& plain, const PlyMesh& move
     changed += static_cast<std::size_t>(axes);
   }
   return changed;
+}
+
+void expect_engines_faces_with_moved_vertices(const PlyMesh& plain, const PlyMesh& moved) {
+  ASSERT_GT(moved.face_count(), 500u);
+  EXPECT_EQ(moved.face_offsets, plain.face_offsets);
+  EXPECT_EQ(moved.face_indices, plain.face_indices);
+  EXPECT_GT(vertices_moved_along_edges(plain, moved, 0.5f), moved.vertex_count() / 2);
+  const Topology topology = analyse(to_mesh(moved));
+  EXPECT_TRUE(topology.closed_and_consistent()) << describe(topology);
+}
+
+StlFile expect_corners_among(const std::string& path, const PlyMesh& mesh) {
+  const StlFile stl = read_stl(path);
+  const std::set<std::array<float, 3>> corners(mesh.positions.begin(), mesh.positions.end());
+  for (const StlTriangle& triangle : stl.triangles)
+    for (const auto& corner : triangle.vertices) {
+      EXPECT_EQ(corners.count({corner[0], corner[1], corner[2]}), 1u);
+      if (corners.count({corner[0], corner[1], corner[2]}) != 1) return stl;
+    }
+  return stl;
 }
 
 }  // namespace mvox::test
