@@ -21,6 +21,7 @@
 #include "pipeline/slab_engine_run.h"
 #include "pipeline/slab_recorder.h"
 #include "pipeline/slab_run_failure.h"
+#include "pipeline/slab_write_turns.h"
 #include "pipeline/stopwatch.h"
 #include "read/range_readable.h"
 #include "read/read_cancellation.h"
@@ -50,44 +51,30 @@ struct SliceItem {
   std::vector<unsigned char>* samples = nullptr;
 };
 
-struct Worker final : SlabRecorder::Handover {
+struct Worker {
   Worker(const Cancellation& cancellation, std::size_t slice_bytes, std::uint32_t buffer_slices,
-         std::size_t workspace_bytes, const EngineOptions& engine)
+         std::size_t workspace_bytes)
       : slices(cancellation),
         free_slices(cancellation),
-        full_chunks(cancellation),
-        free_chunks(cancellation),
         slice_storage(buffer_slices, std::vector<unsigned char>(slice_bytes)),
-        chunk_storage(kChunksPerWorker),
         workspace(workspace_bytes) {
     for (auto& samples : slice_storage) free_slices.push(&samples);
-    for (auto& chunk : chunk_storage) {
-      chunk.reserve(engine);
-      free_chunks.push(&chunk);
-    }
   }
-
-  SlabChunk* take() override { return free_chunks.pop().value_or(nullptr); }
-  void full(SlabChunk* chunk) override { full_chunks.push(chunk); }
 
   void wake() {
     slices.wake();
     free_slices.wake();
-    full_chunks.wake();
-    free_chunks.wake();
   }
 
   BlockingQueue<SliceItem> slices;  // from the reader, in increasing z
   BlockingQueue<std::vector<unsigned char>*> free_slices;
-  BlockingQueue<SlabChunk*> full_chunks;  // to the writer, in order
-  BlockingQueue<SlabChunk*> free_chunks;
   std::vector<std::vector<unsigned char>> slice_storage;
-  std::vector<SlabChunk> chunk_storage;
   WorkspaceBuffer workspace;
   std::optional<NormalWindow> normals;
   std::unique_ptr<PictureLayer> layer;  // with a picture: this worker's slabs drawn
   std::thread thread;
-  double read_seconds = 0;  // inside its own slab readers
+  double read_seconds = 0;   // inside its own slab readers
+  double write_seconds = 0;  // inside the mesh writer, writing its output straight
 };
 
 SliceView packed_view(const VolumeInfo& info, const std::vector<unsigned char>& samples) {
@@ -169,16 +156,23 @@ class HandedOutSlices final : public SlabSlices {
 void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
                    const SlabCuts& cuts, const VolumeInfo& info, double threshold,
                    const EngineOptions& options, const VertexPlacement* placement,
-                   bool mesh_normals, const RangeReadable* ranges, SlabRunFailure& failure,
-                   const std::string& input_label) {
+                   bool mesh_normals, const RangeReadable* ranges, SlabWriteTurns& turns,
+                   SlabRunFailure& failure, const std::string& input_label) {
   const Cancellation& cancellation = failure.cancellation();
   const VertexNormals* normals =
       worker.normals && mesh_normals ? &worker.normals->normals() : nullptr;
   SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
-  SlabRecorder recorder(worker, placement, normals, options.polygon_geometry && placement);
+  SlabRecorder recorder(turns.handover(index), placement, normals,
+                        options.polygon_geometry && placement);
   PolygonSink* drawing = worker.layer ? &worker.layer->sink() : nullptr;
+  struct CountWrites {
+    Worker& worker;
+    const SlabRecorder& recorder;
+    ~CountWrites() { worker.write_seconds = recorder.write_seconds(); }
+  } count_writes{worker, recorder};
   for (std::uint32_t slab = index; slab < cuts.count(); slab += threads) {
     const SlabSpan span = cuts.span(slab);
+    turns.start_slab(index, slab);
     if (worker.layer) worker.layer->start_slab(slab);
     std::unique_ptr<SliceSource> reader;  // the slab's own, when the input allows
     std::optional<OwnReaderSlices> own;
@@ -279,14 +273,18 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
       std::size_t{info.width} * info.height * sample_bytes(info.type);
 
   std::vector<std::unique_ptr<Worker>> workers;
-  SlabRunFailure failure([&workers] {
+  std::unique_ptr<SlabWriteTurns> turns;
+  SlabRunFailure failure([&workers, &turns] {
     for (auto& worker : workers) worker->wake();
+    if (turns) turns->wake();
   });
+  turns = std::make_unique<SlabWriteTurns>(mesh, cuts.count(), threads, engine,
+                                           failure.cancellation(), [&failure] { failure.cancel(); });
   for (std::uint32_t w = 0; w < threads; ++w) {
     // Workers that read their own slices need no slice buffers from the fan-out.
     const std::uint32_t buffers = ranges ? 0 : slab_buffer_slices(cuts.slab_slices, window);
     workers.push_back(std::make_unique<Worker>(failure.cancellation(), slice_bytes, buffers,
-                                               result.workspace_bytes, engine));
+                                               result.workspace_bytes));
     Worker& worker = *workers.back();
     if (window) worker.normals.emplace(info, options.spacing, input_label);
     if (options.picture)
@@ -314,8 +312,8 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
       workers[w]->thread = std::thread([&, w] {
         try {
           extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine,
-                        mesh ? &mesh->placement() : nullptr, options.normals, ranges, failure,
-                        input_label);
+                        mesh ? &mesh->placement() : nullptr, options.normals, ranges, *turns,
+                        failure, input_label);
         } catch (...) {
           failure.fail(std::current_exception());
         }
@@ -336,38 +334,22 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     throw Error(input_label, std::string("cannot start the slab threads: ") + error.what());
   }
 
-  // This thread writes: the slabs' chunks in slab order, as they come.
-  SlabReplay replay(mesh);
-  double write_seconds = 0;
+  // The workers write, taking turns (slab_write_turns.h); this thread reports progress.
   try {
-    for (std::uint32_t slab = 0; slab < cuts.count() && result.status == Status::ok; ++slab) {
-      Worker& worker = *workers[slab % threads];
-      for (;;) {
-        const std::optional<SlabChunk*> chunk = worker.full_chunks.pop();
-        if (!chunk) break;
-        const auto write_start = Clock::now();
-        result.status = replay.replay(**chunk);
-        write_seconds += seconds_since(write_start);
-        const bool last = (*chunk)->last;
-        (*chunk)->clear();
-        worker.free_chunks.push(*chunk);
-        if (result.status != Status::ok) {
-          failure.cancel();
-          break;
-        }
-        if (last) {
-          if (progress) progress(cuts.end(slab));
-          break;
-        }
-      }
-      if (failure.cancellation().cancelled()) break;
-    }
+    turns->wait_written([&](std::uint32_t written) {
+      if (progress) progress(cuts.end(written - 1));
+    });
   } catch (...) {
     failure.fail(std::current_exception());
   }
   join_all();
   failure.throw_if_failed(ranges);
-  for (const auto& worker : workers) read_seconds += worker->read_seconds;
+  result.status = turns->status();
+  double write_seconds = turns->replay_seconds();
+  for (const auto& worker : workers) {
+    read_seconds += worker->read_seconds;
+    write_seconds += worker->write_seconds;
+  }
   if (options.picture) {
     // Sort-last: the workers' layers into the picture, each pixel to the nearest, ties to the
     // lowest slab, as one engine draws it.
@@ -376,7 +358,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     result.times.render_s = seconds_since(render_start);
   }
 
-  result.counters = replay.counters();
+  result.counters = turns->counters();
   result.times.total_s = seconds_since(start);
   result.times.read_s = read_seconds;
   result.times.write_s = write_seconds;

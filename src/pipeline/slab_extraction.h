@@ -1,20 +1,21 @@
 #pragma once
 // Slab-parallel extraction: the volume is cut into slabs of consecutive slices, worker threads
-// each run an engine over one slab at a time (Engine::begin_slab), and the calling thread
-// replays the slabs' output in order into the mesh writer, so that the mesh is the one a single
-// engine writes, byte for byte, for any number of workers.
+// each run an engine over one slab at a time (Engine::begin_slab), and the slabs' output goes
+// into the mesh writer in slab order, so that the mesh is the one a single engine writes, byte
+// for byte, for any number of workers.
 //
-// Threads: `threads` workers extract; the caller writes. Where the input allows
-// (own_range_reader: files), each worker reads its own slab's slices, so decoding runs in
-// parallel too; otherwise one more thread reads the source once, in order, and hands each
+// Threads: `threads` workers extract and write; the caller reports progress. Where the input
+// allows (own_range_reader: files), each worker reads its own slab's slices, so decoding runs
+// in parallel too; otherwise one more thread reads the source once, in order, and hands each
 // slice to the workers whose slabs need it (a slab also needs the slice before it, and with
-// normals one more on each side). A worker records what its engine emits in chunks of about
-// half a MiB, its vertices already placed with the writer's VertexPlacement (slab_recorder.h),
-// and hands them to the writer, which takes them slab by slab.
+// normals one more on each side). The worker of the lowest slab not yet written writes its
+// engine's output straight into the writer; the others record theirs in chunks of about half a
+// MiB, vertices already placed with the writer's VertexPlacement (slab_recorder.h), until the
+// turn comes to their slab (slab_write_turns.h).
 //
 // Memory is fixed, whatever the depth: per worker an engine workspace, a slice window when
 // normals are wanted, its own slab reader or a slab's slice buffers (slab_buffer_slices), and
-// kChunksPerWorker chunks; a worker whose chunks are all waiting for the writer waits too.
+// kChunksPerWorker chunks; a worker ahead whose chunks are all full waits for its turn.
 // slab_pipeline_bytes() says how much.
 //
 // A reading error is reported as one thread reading in order would report it: the first bad

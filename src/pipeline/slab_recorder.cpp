@@ -1,5 +1,6 @@
 #include "pipeline/slab_recorder.h"
 
+#include "pipeline/stopwatch.h"
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
@@ -78,6 +79,12 @@ bool SlabRecorder::after_call() {
   return chunk_ != nullptr;
 }
 
+Status SlabRecorder::written(Status status, double seconds) {
+  write_seconds_ += seconds;
+  if (status != Status::ok) handover_.refused(status);
+  return status;
+}
+
 // The engine is built without exceptions: a failed allocation here must not unwind through it,
 // so every call catches and refuses (the worker then reports the engine's sink_refused).
 Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count) {
@@ -88,6 +95,16 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
       batch_normals_.resize(count);
       normals_->compute(vertices, count, batch_normals_.data());
       normals = batch_normals_.data();
+    }
+    if (SlabReplay* writer = handover_.writer(chunk_)) {
+      const auto start = Clock::now();
+      placed_batch_.resize(count);
+      // A vertex outside float's range is left for the writer, which refuses it by its index.
+      const Status status =
+          placement_->place(vertices, normals, count, placed_batch_.data()) == count
+              ? writer->placed_vertices(placed_batch_.data(), count)
+              : writer->vertices(vertices, normals, count);
+      return written(status, seconds_since(start));
     }
     const std::size_t first = chunk_->placed.size();
     chunk_->placed.resize(first + count);
@@ -118,6 +135,12 @@ void SlabRecorder::record(SlabChunk::Kind kind, std::vector<Item>& items, const 
 Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count) {
   if (!placement_) return Status::ok;
   try {
+    if (SlabReplay* writer = handover_.writer(chunk_)) {
+      const auto start = Clock::now();
+      const Status status =
+          writer->polygons(polygons, static_cast<std::uint32_t>(count), own_only_);
+      return written(status, seconds_since(start));
+    }
     record(SlabChunk::Kind::polygons, chunk_->polygons, polygons, count);
     // A geometry batch follows at once when the engine sends one: the chunk is handed on after
     // it, so that the pair stays in one chunk. Otherwise now: a layer of cubes can send many
@@ -132,6 +155,11 @@ Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count
 Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) {
   if (!placement_) return Status::ok;
   try {
+    // The polygons before it went the same way: a slab's turn does not come between the two.
+    if (SlabReplay* writer = handover_.writer(chunk_)) {
+      const auto start = Clock::now();
+      return written(writer->geometry(polygons, count), seconds_since(start));
+    }
     record(SlabChunk::Kind::geometry, chunk_->geometry, polygons, count);
     return after_call() ? Status::ok : Status::sink_refused;
   } catch (...) {
@@ -192,8 +220,14 @@ Status SlabReplay::replay(SlabChunk& chunk) {
         break;
       case SlabChunk::Kind::polygons: {
         Polygon* polygons = chunk.polygons.data() + polygon_at;
-        join_.relocate(polygons, call.count, call.own_vertices_only);
-        status = mesh_->consume_polygons(polygons, call.count);
+        // Polygons of the slab's own vertices are moved by one offset, as they are formatted;
+        // those of its first layer here, by the rule for shared vertices.
+        if (call.own_vertices_only) {
+          status = mesh_->consume_moved_polygons(polygons, call.count, join_.own_offset());
+        } else {
+          join_.relocate(polygons, call.count, false);
+          status = mesh_->consume_polygons(polygons, call.count);
+        }
         polygon_at += call.count;
         break;
       }
@@ -206,6 +240,25 @@ Status SlabReplay::replay(SlabChunk& chunk) {
   }
   if (chunk.last) join_.end(chunk.summary);
   return Status::ok;
+}
+
+Status SlabReplay::placed_vertices(const WorldVertex* vertices, std::size_t count) {
+  return mesh_->consume_placed_vertices(vertices, count);
+}
+
+Status SlabReplay::vertices(const Vertex* vertices, const glm::vec3* normals, std::size_t count) {
+  return mesh_->consume_vertices_with_normals(vertices, normals, count);
+}
+
+Status SlabReplay::polygons(const Polygon* polygons, std::uint32_t count, bool own_only) {
+  if (own_only) return mesh_->consume_moved_polygons(polygons, count, join_.own_offset());
+  moved_.assign(polygons, polygons + count);
+  join_.relocate(moved_.data(), count, false);
+  return mesh_->consume_polygons(moved_.data(), count);
+}
+
+Status SlabReplay::geometry(const PolygonGeometry* polygons, std::size_t count) {
+  return mesh_->consume_polygon_geometry(polygons, count);
 }
 
 }  // namespace mvox

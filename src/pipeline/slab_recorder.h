@@ -68,11 +68,18 @@ struct SlabChunk {
   static std::size_t reserved_bytes(const EngineOptions& engine);
 };
 
+class SlabReplay;
+
 // The sink a slab's engine writes into: appends each call to the current chunk and, when the
 // chunk holds kChunkBytes or more, hands it on with `full(chunk)` and takes an empty one with
 // `take()`. Vertex batches are placed as the writer would place them (`placement`, the
 // writer's), here, in parallel; with `normals`, each batch's normals are computed as it
 // arrives, while the slab's window holds the slices around it.
+//
+// Once every slab before this one is written, the handover may give a writer (`writer()`): the
+// recorder then writes each call straight into it, moving indices as a replay would, instead of
+// recording it. The thread extracting the lowest unwritten slab thus writes as it goes, and
+// only the slabs ahead of it are recorded.
 class SlabRecorder final : public PolygonSink {
  public:
   static constexpr std::size_t kChunkBytes = std::size_t{512} << 10;
@@ -80,6 +87,12 @@ class SlabRecorder final : public PolygonSink {
   struct Handover {
     virtual SlabChunk* take() = 0;             // an empty chunk; null when the run is cancelled
     virtual void full(SlabChunk* chunk) = 0;   // a chunk for the writer, in order
+    // Asked before each call is recorded. Null: record it. Otherwise every slab before this one
+    // is written, and so is what this one recorded, `current` included (now emptied): the
+    // call goes to the returned replay, which the recorder may use until the slab ends.
+    virtual SlabReplay* writer(SlabChunk* /*current*/) { return nullptr; }
+    // A call written straight into the writer was refused with `status`.
+    virtual void refused(Status /*status*/) {}
    protected:
     ~Handover() = default;
   };
@@ -106,7 +119,12 @@ class SlabRecorder final : public PolygonSink {
   Status consume_polygons(const Polygon* polygons, std::size_t count) override;
   Status consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) override;
 
+  // Seconds inside the writer for calls written straight into it.
+  double write_seconds() const { return write_seconds_; }
+
  private:
+  // The status of a call written straight into the writer, timed; a refusal is reported.
+  Status written(Status status, double seconds);
   // Hands the chunk on once it is full; false when the run is cancelled.
   bool after_call();
   // Appends the call and its batch to the current chunk.
@@ -122,6 +140,8 @@ class SlabRecorder final : public PolygonSink {
   bool geometry_follows_;
   bool own_only_ = false;
   SlabChunk* chunk_ = nullptr;
+  std::vector<WorldVertex> placed_batch_;  // one batch placed, when written straight
+  double write_seconds_ = 0;
 };
 
 // How slabs join into one volume: where each slab's local vertex indices go in the whole
@@ -133,6 +153,8 @@ class SlabJoin {
   // Moves the current slab's local indices to the whole volume's, in place. `own_only`: no
   // index refers to a shared vertex (SlabChunk::Call::own_vertices_only).
   void relocate(Polygon* polygons, std::uint32_t count, bool own_only) const;
+  // What relocate() adds to an index that refers to none of the shared vertices, modulo 2^32.
+  std::uint32_t own_offset() const { return static_cast<std::uint32_t>(slab_base_ - shared_); }
   // The current slab has ended; the next one is current.
   void end(const SlabSummary& summary);
 
@@ -167,9 +189,19 @@ class SlabReplay {
   const SlabJoin& join() const { return join_; }
   const EngineCounters& counters() const { return join_.counters(); }
 
+  // The calls of the current slab, given as its engine makes them instead of from a chunk
+  // (SlabRecorder::Handover::writer): each does what replay() does with a recorded call.
+  Status placed_vertices(const WorldVertex* vertices, std::size_t count);
+  Status vertices(const Vertex* vertices, const glm::vec3* normals, std::size_t count);
+  // Polygons that may refer to shared vertices are copied to be moved; the others are moved
+  // as the writer formats them.
+  Status polygons(const Polygon* polygons, std::uint32_t count, bool own_only);
+  Status geometry(const PolygonGeometry* polygons, std::size_t count);
+
  private:
   MeshWriter* mesh_;
   SlabJoin join_;
+  std::vector<Polygon> moved_;  // a batch of polygons(), moved
 };
 
 }  // namespace mvox

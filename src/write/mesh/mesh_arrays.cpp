@@ -1,6 +1,8 @@
 #include "write/mesh/mesh_arrays.h"
 
+#include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <utility>
 
 namespace mvox {
@@ -26,8 +28,21 @@ void MeshArraysWriter::write_vertices(const WorldVertex* vertices, std::size_t v
 }
 
 void MeshArraysWriter::write_faces(const Polygon* faces, const FacePositions*,
-                                   std::size_t face_count) {
-  append_polygons(arrays_, faces, face_count);
+                                   std::size_t face_count, std::uint32_t index_offset) {
+  if (index_offset == 0) {
+    append_polygons(arrays_, faces, face_count);
+    return;
+  }
+  // Moved a run at a time (slab-parallel runs only; Python's arrays come from one engine).
+  Polygon moved[256];
+  for (std::size_t first = 0; first < face_count; first += std::size(moved)) {
+    const std::size_t count = std::min(std::size(moved), face_count - first);
+    for (std::size_t i = 0; i < count; ++i) {
+      moved[i] = faces[first + i];
+      for (int k = 0; k < moved[i].vertex_count; ++k) moved[i].vertices[k] += index_offset;
+    }
+    append_polygons(arrays_, moved, count);
+  }
 }
 
 void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count) {

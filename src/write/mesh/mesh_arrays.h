@@ -50,8 +50,8 @@ class MeshArraysWriter : public MeshWriter {
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
-  void write_faces(const Polygon* faces, const FacePositions* positions,
-                   std::size_t face_count) override;
+  void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
+                   std::uint32_t index_offset) override;
   void complete_file() override {}
 
   std::string subject_;

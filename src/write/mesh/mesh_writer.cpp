@@ -23,6 +23,12 @@ MeshWriterOptions checked(MeshWriterOptions options) {
   return options;
 }
 
+// Adds `offset` to every index of `polygons`, modulo 2^32.
+void move_indices(Polygon* polygons, std::size_t count, std::uint32_t offset) {
+  for (std::size_t i = 0; i < count; ++i)
+    for (int k = 0; k < polygons[i].vertex_count; ++k) polygons[i].vertices[k] += offset;
+}
+
 }  // namespace
 
 MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, Positions positions)
@@ -102,22 +108,33 @@ Status MeshWriter::consume_placed_vertices(const WorldVertex* vertices, std::siz
   });
 }
 
-void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count) const {
+void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count,
+                                std::uint32_t index_offset) const {
   // Branch-free per polygon: the largest index and whether the size is in range, folded over the
-  // batch; the message is built only for a batch that fails.
+  // batch; the message is built only for a batch that fails. A slab's indices are moved by one
+  // offset, so the batch passes when its largest index, moved, is in range and no index
+  // wrapped past 2^32 on the way (a wrapped one would be the smaller after moving).
   std::uint32_t highest = 0;
+  std::uint32_t lowest = ~std::uint32_t{0};
   bool sizes_ok = true;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];
     const unsigned count = polygon.vertex_count;
     sizes_ok &= count - 3u <= unsigned{kMaxPolygonVertices} - 3u;
     for (int k = 0; k < kMaxPolygonVertices; ++k)
-      if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
+      if (k < static_cast<int>(count)) {
+        highest = std::max(highest, polygon.vertices[k]);
+        lowest = std::min(lowest, polygon.vertices[k]);
+      }
   }
   // Below 2^32 vertices an index is its whole self. Beyond, whole_vertex_index() puts every
   // index among the last 2^32 taken: none can be out of range.
   const bool whole = vertex_count_ <= kMaxVerticesBack;
-  if (sizes_ok && (polygon_count == 0 || !whole || highest < vertex_count_)) return;
+  const std::uint32_t moved_highest = highest + index_offset;
+  const bool no_wrap = index_offset == 0 || (polygon_count > 0 && moved_highest >= highest &&
+                                             lowest + index_offset >= lowest);
+  if (sizes_ok && (polygon_count == 0 || !whole || (no_wrap && moved_highest < vertex_count_)))
+    return;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];
     const int count = polygon.vertex_count;
@@ -125,9 +142,14 @@ void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_cou
     if (count < 3 || count > kMaxPolygonVertices)
       throw Error(subject(), face + " has " + std::to_string(count) + " vertices");
     for (int k = 0; k < count; ++k) {
+      const std::uint64_t moved = polygon.vertices[k] + std::uint64_t{index_offset};
+      if (whole && moved >= vertex_count_)
+        throw Error(subject(), face + " refers to vertex " + std::to_string(moved) + " of " +
+                                   std::to_string(vertex_count_) + " written");
+      const std::uint32_t written = static_cast<std::uint32_t>(moved);
       const std::uint64_t index = vertex_count_ == 0
-                                      ? polygon.vertices[k]
-                                      : whole_vertex_index(polygon.vertices[k], vertex_count_);
+                                      ? written
+                                      : whole_vertex_index(written, vertex_count_);
       if (index >= vertex_count_)
         throw Error(subject(), face + " refers to vertex " + std::to_string(polygon.vertices[k]) +
                                    " of " + std::to_string(vertex_count_) + " written");
@@ -136,26 +158,36 @@ void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_cou
 }
 
 Status MeshWriter::consume_polygons(const Polygon* polygons, std::size_t polygon_count) {
+  return consume_moved_polygons(polygons, polygon_count, 0);
+}
+
+Status MeshWriter::consume_moved_polygons(const Polygon* polygons, std::size_t polygon_count,
+                                          std::uint32_t index_offset) {
   return guarded("polygons", [&] {
-    check_polygons(polygons, polygon_count);
+    check_polygons(polygons, polygon_count, index_offset);
     polygon_count_ += polygon_count;
     if (needs_geometry_) {
       if (pending_batch_)
         throw Error(subject(),
                     "internal error: a polygon batch arrived before the previous one's geometry");
-      // The batch is valid only during this call: keep it until its geometry comes.
+      // The batch is valid only during this call: keep it, moved, until its geometry comes.
       pending_.assign(polygons, polygons + polygon_count);
+      if (index_offset != 0) move_indices(pending_.data(), polygon_count, index_offset);
       pending_batch_ = true;
       return;
     }
     if (!triangulate_ && !mirrors_) {
       // Nothing to change: the batch goes out as the engine sent it.
-      write_faces(polygons, nullptr, polygon_count);
+      write_faces(polygons, nullptr, polygon_count, index_offset);
       face_count_ += polygon_count;
       return;
     }
     face_fill_ = 0;
-    for (std::size_t i = 0; i < polygon_count; ++i) add_faces(polygons[i], nullptr);
+    for (std::size_t i = 0; i < polygon_count; ++i) {
+      Polygon moved = polygons[i];
+      move_indices(&moved, 1, index_offset);
+      add_faces(moved, nullptr);
+    }
     flush_faces();
   });
 }
@@ -221,7 +253,8 @@ void MeshWriter::add_face(const Polygon& polygon, const PolygonGeometry* geometr
 }
 
 void MeshWriter::flush_faces() {
-  write_faces(faces_.data(), positions_needed_ ? face_positions_.data() : nullptr, face_fill_);
+  // add_faces() took polygons already moved.
+  write_faces(faces_.data(), positions_needed_ ? face_positions_.data() : nullptr, face_fill_, 0);
   face_count_ += face_fill_;
   face_fill_ = 0;
 }

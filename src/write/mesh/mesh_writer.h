@@ -88,6 +88,12 @@ class MeshWriter : public PolygonSink {
   Status consume_vertices(const Vertex* vertices, std::size_t vertex_count) final;
   Status consume_polygons(const Polygon* polygons, std::size_t polygon_count) final;
   Status consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t polygon_count) final;
+  // consume_polygons() for polygons whose indices are each `index_offset` (modulo 2^32) below
+  // the ones to write: a slab's polygons, numbered from the slab's first vertex
+  // (pipeline/slab_recorder.h). The offset is added as the faces are formatted, so that the
+  // caller need not copy the batch to move it.
+  Status consume_moved_polygons(const Polygon* polygons, std::size_t polygon_count,
+                                std::uint32_t index_offset);
   // consume_vertices() for a writer whose options have normals_given: `normals` holds each
   // vertex's outward unit normal in the volume's axes, as VertexNormals computes it.
   Status consume_vertices_with_normals(const Vertex* vertices, const glm::vec3* normals,
@@ -140,9 +146,10 @@ class MeshWriter : public PolygonSink {
   // Faces carry indices modulo 2^32 (mvox/mesh.h): whole_vertex_index(index, vertices_written())
   // is the whole one, the same number while fewer than 2^32 vertices have been written.
   virtual void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) = 0;
-  // `positions` has one entry per face when the writer asked for them, else it is null.
+  // `positions` has one entry per face when the writer asked for them, else it is null. Each
+  // index plus `index_offset`, modulo 2^32, is the index to write.
   virtual void write_faces(const Polygon* faces, const FacePositions* positions,
-                           std::size_t face_count) = 0;
+                           std::size_t face_count, std::uint32_t index_offset) = 0;
   // Writes what only the end can tell (counts), and seals the file (OutputFile::seal).
   virtual void complete_file() = 0;
 
@@ -153,8 +160,10 @@ class MeshWriter : public PolygonSink {
   void check_vertex_room(std::size_t vertex_count) const;
   // `given`: the batch's normals when the caller computed them (normals_given), else null.
   void place_vertices(const Vertex* vertices, const glm::vec3* given, std::size_t vertex_count);
-  // Throws unless every polygon has 3 to kMaxPolygonVertices vertices, each already consumed.
-  void check_polygons(const Polygon* polygons, std::size_t polygon_count) const;
+  // Throws unless every polygon has 3 to kMaxPolygonVertices vertices, each already consumed
+  // (once moved by `index_offset`).
+  void check_polygons(const Polygon* polygons, std::size_t polygon_count,
+                      std::uint32_t index_offset) const;
   // Appends `polygon`'s faces (itself, or its triangles when `geometry` is given and the writer
   // triangulates) to faces_.
   void add_faces(const Polygon& polygon, const PolygonGeometry* geometry);
@@ -174,7 +183,7 @@ class MeshWriter : public PolygonSink {
   std::vector<Polygon> faces_;
   std::vector<FacePositions> face_positions_;
   std::size_t face_fill_ = 0;
-  std::vector<Polygon> pending_;  // a polygon batch waiting for its geometry
+  std::vector<Polygon> pending_;  // a polygon batch waiting for its geometry, moved
   bool pending_batch_ = false;
   std::uint64_t vertex_count_ = 0;
   std::uint64_t polygon_count_ = 0;

@@ -42,7 +42,8 @@ void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_c
   }
 }
 
-void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
+void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
+                           std::uint32_t index_offset) {
   const bool with_normals = options().writes_normals();
   for (std::size_t i = 0; i < face_count; ++i) {
     const Polygon& face = faces[i];
@@ -53,7 +54,8 @@ void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
     for (int k = 0; k < face.vertex_count; ++k) {
       // OBJ counts from 1, in as many digits as the whole index takes (past 2^32 too).
       char digits[20];
-      const std::uint64_t index = whole_vertex_index(face.vertices[k], vertices_written()) + 1;
+      const std::uint64_t index =
+          whole_vertex_index(face.vertices[k] + index_offset, vertices_written()) + 1;
       const std::size_t length = static_cast<std::size_t>(
           std::to_chars(digits, digits + sizeof digits, index).ptr - digits);
       line[used++] = ' ';

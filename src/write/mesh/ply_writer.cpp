@@ -128,7 +128,8 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
   }
 }
 
-void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count) {
+void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
+                            std::uint32_t index_offset) {
   if (format_ == PlyFormat::ascii) {
     for (std::size_t i = 0; i < face_count; ++i) {
       const Polygon& face = faces[i];
@@ -142,7 +143,7 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
       *end++ = static_cast<char>('0' + count);
       for (int k = 0; k < count; ++k) {
         *end++ = ' ';
-        end = std::to_chars(end, line + sizeof line, face.vertices[k]).ptr;
+        end = std::to_chars(end, line + sizeof line, face.vertices[k] + index_offset).ptr;
       }
       *end++ = '\n';
       faces_.write(line, static_cast<std::size_t>(end - line));
@@ -162,7 +163,7 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
       // MeshWriter checked every face; checked again so the record provably fits.
       if (corners > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
       *out++ = static_cast<unsigned char>(corners);
-      for (int k = 0; k < corners; ++k) out = store_le32(out, face.vertices[k]);
+      for (int k = 0; k < corners; ++k) out = store_le32(out, face.vertices[k] + index_offset);
     }
     faces_.commit(static_cast<std::size_t>(out - start));
   }

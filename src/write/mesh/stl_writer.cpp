@@ -72,7 +72,7 @@ void StlWriter::write_vertices(const WorldVertex*, std::size_t) {
 }
 
 void StlWriter::write_faces(const Polygon* faces, const FacePositions* positions,
-                            std::size_t face_count) {
+                            std::size_t face_count, std::uint32_t /*index_offset: no indices*/) {
   if (!positions) throw Error(subject(), "internal error: STL faces without positions");
   if (face_count > std::numeric_limits<std::uint32_t>::max() - faces_written())
     throw Error(subject(), "more than 4,294,967,295 triangles, which STL cannot count");

@@ -1,0 +1,94 @@
+#pragma once
+// Whose turn it is to write, in the slab-parallel pipeline (slab_extraction.h). The mesh is
+// written slab by slab, in order. The worker extracting the lowest slab not yet written writes
+// its engine's output straight into the mesh writer as it comes (SlabRecorder::Handover::
+// writer); the workers ahead of it record theirs in chunks. When a slab is written, its writer
+// hands the turn on: to the next slab's worker, which writes what it recorded and goes on
+// writing straight, or, when that slab is already extracted and its worker has moved on, to
+// itself, writing the recorded slab before it hands the turn on again.
+//
+// So no thread does nothing but write, and the output of the slab being written crosses no
+// thread: on two cores, the two workers' engines run on both, and about half the output is
+// recorded and written later, by the core that recorded it, while its chunks are still in its
+// cache. Before, one more thread took every slab's chunks and wrote them, and on two cores it
+// took a third of a core from the engines.
+//
+// Each worker has kChunksPerWorker chunks. A worker ahead of the writer whose chunks are all
+// full waits until a chunk is written and given back, or until its own turn comes.
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "mvox/engine.h"
+#include "pipeline/blocking_queue.h"
+#include "pipeline/slab_recorder.h"
+
+namespace mvox {
+
+class MeshWriter;
+
+class SlabWriteTurns {
+ public:
+  // `slabs` slabs, slab k extracted by worker k mod `workers`, written into `mesh` (may be null:
+  // the slabs record nothing, and only their counters are summed). `cancel` stops the run when
+  // the writer refuses; waits end when `cancellation` is set and wake() called.
+  SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned workers,
+                 const EngineOptions& engine, const Cancellation& cancellation,
+                 std::function<void()> cancel);
+  ~SlabWriteTurns();
+
+  // Worker w's handover for its recorder. Call start_slab() before each slab it extracts.
+  SlabRecorder::Handover& handover(unsigned w);
+  void start_slab(unsigned w, std::uint32_t slab);
+
+  // Waits until every slab is written or the run is cancelled, calling `written(k)` on this
+  // thread, in order, once slabs 0..k-1 are written (k = 1..slabs). False when cancelled.
+  bool wait_written(const std::function<void(std::uint32_t)>& written);
+  // Wakes every wait, to see the cancellation.
+  void wake();
+
+  // Once every worker has stopped: the writer's status (sink_refused: the writer holds the
+  // error), the counters of the slabs written, and the seconds spent writing recorded chunks
+  // (the recorders count what they wrote straight).
+  Status status() const { return status_; }
+  const EngineCounters& counters() const { return replay_.counters(); }
+  double replay_seconds() const { return replay_seconds_; }
+
+ private:
+  struct Pool;
+  class WorkerHandover;
+
+  SlabChunk* take(unsigned w);
+  void full(unsigned w, SlabChunk* chunk);
+  SlabReplay* writer(unsigned w, SlabChunk* current);
+  void refused(Status status);
+
+  // Writes worker w's recorded chunks, oldest first: all it holds, or with `one_slab` those up
+  // to and including the next slab's last chunk. Each goes back to w's free chunks.
+  void write_recorded(unsigned w, bool one_slab);
+  // Replays one chunk and gives it back to worker `w`.
+  void write_chunk(unsigned w, SlabChunk* chunk);
+  // Slab `slab` - 1 is written: the turn goes to `slab`, and this thread writes every slab after
+  // it that is already extracted.
+  void hand_on(std::uint32_t slab);
+
+  SlabReplay replay_;
+  std::uint32_t slabs_;
+  unsigned workers_;
+  const Cancellation& cancellation_;
+  std::function<void()> cancel_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::atomic<std::uint32_t> turn_{0};  // the lowest slab not written yet
+  std::vector<Pool> pools_;
+  std::vector<std::unique_ptr<WorkerHandover>> handovers_;
+  Status status_ = Status::ok;
+  double replay_seconds_ = 0;  // writing recorded chunks (by whichever thread had the turn)
+};
+
+}  // namespace mvox
