@@ -7,7 +7,7 @@ namespace mvox {
 
 void SlabChunk::clear() {
   calls.clear();
-  placed.clear();
+  placed_count = 0;
   vertices.clear();
   normals.clear();
   polygons.clear();
@@ -92,13 +92,13 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
   try {
     const glm::vec3* normals = nullptr;
     if (normals_) {
-      batch_normals_.resize(count);
+      if (batch_normals_.size() < count) batch_normals_.resize(count);
       normals_->compute(vertices, count, batch_normals_.data());
       normals = batch_normals_.data();
     }
     if (SlabReplay* writer = handover_.writer(chunk_)) {
       const auto start = Clock::now();
-      placed_batch_.resize(count);
+      if (placed_batch_.size() < count) placed_batch_.resize(count);
       // A vertex outside float's range is left for the writer, which refuses it by its index.
       const Status status =
           placement_->place(vertices, normals, count, placed_batch_.data()) == count
@@ -106,16 +106,18 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
               : writer->vertices(vertices, normals, count);
       return written(status, seconds_since(start));
     }
-    const std::size_t first = chunk_->placed.size();
-    chunk_->placed.resize(first + count);
+    const std::size_t first = chunk_->placed_count;
+    // Room was reserved for a full chunk and one batch more (SlabChunk::reserve); grown only
+    // as far as it is used, each part zeroed once in the chunk's life.
+    if (chunk_->placed.size() < first + count) chunk_->placed.resize(first + count);
     const std::size_t outside = placement_->place(vertices, normals, count, &chunk_->placed[first]);
     if (outside == count) {
+      chunk_->placed_count += count;
       chunk_->calls.push_back(
           {SlabChunk::Kind::placed_vertices, own_only_, static_cast<std::uint32_t>(count)});
     } else {
       // Left for the writer, which refuses the batch naming the vertex by its index in the
       // whole mesh, as with one thread.
-      chunk_->placed.resize(first);
       record(SlabChunk::Kind::vertices, chunk_->vertices, vertices, count);
       if (normals) chunk_->normals.insert(chunk_->normals.end(), normals, normals + count);
     }

@@ -42,7 +42,10 @@ struct SlabChunk {
     std::uint32_t count;
   };
   std::vector<Call> calls;
+  // Placed vertices: the first placed_count. It keeps the size it has grown to when cleared, so
+  // that appending a batch does not zero it first, as growing a vector would.
   std::vector<WorldVertex> placed;
+  std::size_t placed_count = 0;
   std::vector<Vertex> vertices;    // batches left unplaced (reserved only when needed)
   std::vector<glm::vec3> normals;  // theirs, when the slab computes normals
   std::vector<Polygon> polygons;
@@ -53,7 +56,7 @@ struct SlabChunk {
   SlabSummary summary;
 
   std::size_t bytes() const {
-    return placed.size() * sizeof(WorldVertex) + vertices.size() * sizeof(Vertex) +
+    return placed_count * sizeof(WorldVertex) + vertices.size() * sizeof(Vertex) +
            normals.size() * sizeof(glm::vec3) + polygons.size() * sizeof(Polygon) +
            geometry.size() * sizeof(PolygonGeometry);
   }
@@ -136,6 +139,7 @@ class SlabRecorder final : public PolygonSink {
   const VertexPlacement* placement_;
   const VertexNormals* normals_;
   // One vertex batch's normals before they are placed: at most EngineOptions::vertices_per_batch.
+  // Like placed_batch_, only ever grown, so that a batch is not zeroed before it is filled.
   std::vector<glm::vec3> batch_normals_;
   bool geometry_follows_;
   bool own_only_ = false;

@@ -1,5 +1,6 @@
 #include "pipeline/slab_write_turns.h"
 
+#include <chrono>
 #include <utility>
 
 #include "pipeline/slab_extraction.h"
@@ -78,7 +79,9 @@ SlabChunk* SlabWriteTurns::take(unsigned w) {
       lock.lock();
       continue;
     }
+    ++waiting_workers_;
     changed_.wait(lock);
+    --waiting_workers_;
   }
 }
 
@@ -142,24 +145,30 @@ void SlabWriteTurns::write_chunk(unsigned w, SlabChunk* chunk) {
     if (status != Status::ok) refused(status);
   }
   chunk->clear();
+  bool waiting = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     pools_[w].free.push_back(chunk);
+    waiting = waiting_workers_ > 0;
   }
-  changed_.notify_all();
+  if (waiting) changed_.notify_all();
 }
 
 void SlabWriteTurns::hand_on(std::uint32_t slab) {
   for (;; ++slab) {
     bool extracted = false;
+    bool wake = false;
     const unsigned owner = slab % workers_;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       turn_.store(slab, std::memory_order_release);
       // Slab `slab` is its owner's (slab / workers_)-th; extracted to the end, it waits recorded.
       extracted = slab < slabs_ && pools_[owner].ended > slab / workers_;
+      // Waking a thread costs tens of microseconds here: only a worker waiting for its turn,
+      // and the caller of wait_written() once all is written, are woken.
+      wake = waiting_workers_ > 0 || slab == slabs_;
     }
-    changed_.notify_all();
+    if (wake) changed_.notify_all();
     if (!extracted) return;
     write_recorded(owner, true);
   }
@@ -172,13 +181,15 @@ void SlabWriteTurns::refused(Status status) {
 }
 
 bool SlabWriteTurns::wait_written(const std::function<void(std::uint32_t)>& written) {
+  // Not woken for every slab (hand_on): it looks every kProgressInterval.
+  constexpr auto kProgressInterval = std::chrono::milliseconds(50);
   std::uint32_t reported = 0;
   while (reported < slabs_) {
     std::uint32_t turn = 0;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      changed_.wait(lock, [&] {
-        return cancellation_.cancelled() || turn_.load(std::memory_order_relaxed) > reported;
+      changed_.wait_for(lock, kProgressInterval, [&] {
+        return cancellation_.cancelled() || turn_.load(std::memory_order_relaxed) == slabs_;
       });
       if (cancellation_.cancelled()) return false;
       turn = turn_.load(std::memory_order_relaxed);

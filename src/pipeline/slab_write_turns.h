@@ -47,7 +47,8 @@ class SlabWriteTurns {
   void start_slab(unsigned w, std::uint32_t slab);
 
   // Waits until every slab is written or the run is cancelled, calling `written(k)` on this
-  // thread, in order, once slabs 0..k-1 are written (k = 1..slabs). False when cancelled.
+  // thread, in order, for k = 1..slabs, once slabs 0..k-1 are written (it looks every 50 ms
+  // and at the end). False when cancelled.
   bool wait_written(const std::function<void(std::uint32_t)>& written);
   // Wakes every wait, to see the cancellation.
   void wake();
@@ -87,6 +88,7 @@ class SlabWriteTurns {
   std::atomic<std::uint32_t> turn_{0};  // the lowest slab not written yet
   std::vector<Pool> pools_;
   std::vector<std::unique_ptr<WorkerHandover>> handovers_;
+  unsigned waiting_workers_ = 0;  // in take(), waiting for a chunk or their turn
   Status status_ = Status::ok;
   double replay_seconds_ = 0;  // writing recorded chunks (by whichever thread had the turn)
 };

@@ -112,28 +112,22 @@ void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_cou
                                 std::uint32_t index_offset) const {
   // Branch-free per polygon: the largest index and whether the size is in range, folded over the
   // batch; the message is built only for a batch that fails. A slab's indices are moved by one
-  // offset, so the batch passes when its largest index, moved, is in range and no index
-  // wrapped past 2^32 on the way (a wrapped one would be the smaller after moving).
+  // offset: below 2^32 vertices every moved index is below 2^32 too, so the largest, moved
+  // without wrapping, must be in range.
   std::uint32_t highest = 0;
-  std::uint32_t lowest = ~std::uint32_t{0};
   bool sizes_ok = true;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];
     const unsigned count = polygon.vertex_count;
     sizes_ok &= count - 3u <= unsigned{kMaxPolygonVertices} - 3u;
     for (int k = 0; k < kMaxPolygonVertices; ++k)
-      if (k < static_cast<int>(count)) {
-        highest = std::max(highest, polygon.vertices[k]);
-        lowest = std::min(lowest, polygon.vertices[k]);
-      }
+      if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
   }
   // Below 2^32 vertices an index is its whole self. Beyond, whole_vertex_index() puts every
   // index among the last 2^32 taken: none can be out of range.
   const bool whole = vertex_count_ <= kMaxVerticesBack;
-  const std::uint32_t moved_highest = highest + index_offset;
-  const bool no_wrap = index_offset == 0 || (polygon_count > 0 && moved_highest >= highest &&
-                                             lowest + index_offset >= lowest);
-  if (sizes_ok && (polygon_count == 0 || !whole || (no_wrap && moved_highest < vertex_count_)))
+  if (sizes_ok && (polygon_count == 0 || !whole || highest + std::uint64_t{index_offset} <
+                                                       vertex_count_))
     return;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];
