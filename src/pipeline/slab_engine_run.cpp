@@ -99,6 +99,7 @@ bool extract_slab(const SlabSpan& span, const VolumeInfo& info, double threshold
     }
     slices.release();
     if (!ok) return false;
+    recorder.poll();
   }
   if (window && !take(span.read_to - 1, window->slice(span.read_to - 1))) return false;
   if (!check(span.end == info.depth ? engine.finish() : engine.finish_slab())) return false;

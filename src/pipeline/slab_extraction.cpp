@@ -201,6 +201,8 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
     if (own) worker.read_seconds += own->read_seconds();
     if (!went_on) return;
   }
+  // Slabs it finished ahead of their turn wait, recorded, for this worker to write them.
+  turns.finish_worker(index);
 }
 
 }  // namespace

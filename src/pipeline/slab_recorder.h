@@ -96,6 +96,9 @@ class SlabRecorder final : public PolygonSink {
     virtual SlabReplay* writer(SlabChunk* /*current*/) { return nullptr; }
     // A call written straight into the writer was refused with `status`.
     virtual void refused(Status /*status*/) {}
+    // Between two slices: a chance to write what was recorded if the turn has come, since the
+    // engine may go a while without a call.
+    virtual void poll() {}
    protected:
     ~Handover() = default;
   };
@@ -117,6 +120,8 @@ class SlabRecorder final : public PolygonSink {
   void own_vertices_only() { own_only_ = true; }
   // Ends the slab: its last chunk carries `summary`.
   void end(const SlabSummary& summary);
+  // Between two slices of the slab (Handover::poll).
+  void poll() { handover_.poll(); }
 
   Status consume_vertices(const Vertex* vertices, std::size_t count) override;
   Status consume_polygons(const Polygon* polygons, std::size_t count) override;

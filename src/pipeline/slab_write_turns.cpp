@@ -8,15 +8,16 @@
 
 namespace mvox {
 
-// One worker's chunks and where its slabs stand. Guarded by SlabWriteTurns::mutex_, except
-// `slab` and `writing`, which only the worker's own thread touches.
+// One worker's chunks and where its slabs stand. Only the worker's own thread touches it: each
+// worker writes its own slabs.
 struct SlabWriteTurns::Pool {
   std::vector<SlabChunk> storage;
   std::vector<SlabChunk*> free;
   std::deque<SlabChunk*> recorded;  // full chunks, oldest first, waiting to be written
-  std::uint32_t ended = 0;          // slabs this worker has extracted to the end
-  std::uint32_t slab = 0;           // the slab it extracts now
-  bool writing = false;             // it has the turn and writes straight
+  std::uint32_t slab = 0;           // the slab it extracts now (or extracted last)
+  std::uint32_t ended = 0;          // slabs it has extracted to the end
+  std::uint32_t written = 0;        // slabs of its own that are written
+  bool writing = false;             // it has the turn for the slab it extracts, and writes straight
 };
 
 class SlabWriteTurns::WorkerHandover final : public SlabRecorder::Handover {
@@ -26,6 +27,7 @@ class SlabWriteTurns::WorkerHandover final : public SlabRecorder::Handover {
   void full(SlabChunk* chunk) override { turns_.full(w_, chunk); }
   SlabReplay* writer(SlabChunk* current) override { return turns_.writer(w_, current); }
   void refused(Status status) override { turns_.refused(status); }
+  void poll() override { turns_.catch_up(w_); }
 
  private:
   SlabWriteTurns& turns_;
@@ -61,76 +63,100 @@ void SlabWriteTurns::start_slab(unsigned w, std::uint32_t slab) {
   pools_[w].writing = false;
 }
 
+void SlabWriteTurns::catch_up(unsigned w) {
+  Pool& pool = pools_[w];
+  while (!pool.writing && !cancellation_.cancelled()) {
+    const std::uint32_t oldest = w + pool.written * workers_;
+    if (turn_.load(std::memory_order_acquire) != oldest) return;
+    if (pool.written < pool.ended) {
+      // An extracted slab, recorded to its last chunk: written, the turn goes on, and it may
+      // come back to this worker's next slab.
+      write_recorded(w, true);
+      ++pool.written;
+      hand_on(oldest + 1);
+      continue;
+    }
+    if (oldest != pool.slab) return;  // its next slab has not started: it catches up then
+    // The slab it extracts: every chunk it holds is this slab's. From here on it writes straight
+    // (the recorder's current chunk goes first, writer()).
+    pool.writing = true;
+    write_recorded(w, false);
+  }
+}
+
 SlabChunk* SlabWriteTurns::take(unsigned w) {
   Pool& pool = pools_[w];
-  std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     if (cancellation_.cancelled()) return nullptr;
+    // Its turn may have come: writing what it recorded frees chunks.
+    catch_up(w);
     if (!pool.free.empty()) {
       SlabChunk* chunk = pool.free.back();
       pool.free.pop_back();
       return chunk;
     }
-    if (!pool.writing && turn_.load(std::memory_order_relaxed) == pool.slab) {
-      // Every chunk is recorded output of this slab, whose turn has come: writing it frees them.
-      lock.unlock();
-      pool.writing = true;
-      write_recorded(w, false);
-      lock.lock();
-      continue;
-    }
-    ++waiting_workers_;
-    changed_.wait(lock);
-    --waiting_workers_;
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (turn_.load(std::memory_order_relaxed) != w + pool.written * workers_) wait_for_turn(lock);
   }
 }
 
 SlabReplay* SlabWriteTurns::writer(unsigned w, SlabChunk* current) {
   Pool& pool = pools_[w];
-  if (pool.writing) return &replay_;
-  if (turn_.load(std::memory_order_acquire) != pool.slab) return nullptr;
-  // The turn has come while this worker was recording: what it recorded goes first. Every
-  // slab before this one is written, so every chunk it holds is this slab's.
-  pool.writing = true;
-  write_recorded(w, false);
-  const auto start = Clock::now();
-  const Status status = replay_.replay(*current);
-  replay_seconds_ += seconds_since(start);
-  current->clear();
-  if (status != Status::ok) refused(status);
+  if (!pool.writing) catch_up(w);
+  if (!pool.writing) return nullptr;
+  // What the recorder's current chunk holds goes before the call: calls recorded before the
+  // turn came, or only the slab's start (`first`, taken when the turn had come already).
+  if (current->first || !current->calls.empty()) {
+    if (status_ == Status::ok) {
+      const auto start = Clock::now();
+      const Status status = replay_.replay(*current);
+      replay_seconds_ += seconds_since(start);
+      if (status != Status::ok) refused(status);
+    }
+    current->clear();
+  }
   return &replay_;
 }
 
 void SlabWriteTurns::full(unsigned w, SlabChunk* chunk) {
   Pool& pool = pools_[w];
-  if (!chunk->last) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    pool.recorded.push_back(chunk);
-    return;
+  pool.recorded.push_back(chunk);
+  if (!chunk->last) return;
+  ++pool.ended;
+  if (pool.writing) {
+    // Written straight to the end: the last chunk carries only how the slab ended.
+    write_recorded(w, true);
+    ++pool.written;
+    pool.writing = false;
+    hand_on(pool.slab + 1);
   }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    pool.recorded.push_back(chunk);
-    ++pool.ended;
-    // Not its turn yet: the slab is left, recorded, to the thread that brings its turn, which
-    // decides under this lock too (hand_on).
-    if (!pool.writing && turn_.load(std::memory_order_relaxed) != pool.slab) return;
+  catch_up(w);
+}
+
+void SlabWriteTurns::finish_worker(unsigned w) {
+  Pool& pool = pools_[w];
+  for (;;) {
+    catch_up(w);
+    if (pool.written == pool.ended || cancellation_.cancelled()) return;
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (turn_.load(std::memory_order_relaxed) != w + pool.written * workers_) wait_for_turn(lock);
   }
-  write_recorded(w, false);
-  pool.writing = false;
-  hand_on(pool.slab + 1);
+}
+
+void SlabWriteTurns::wait_for_turn(std::unique_lock<std::mutex>& lock) {
+  const std::uint32_t turn = turn_.load(std::memory_order_relaxed);
+  ++waiting_workers_;
+  changed_.wait(lock, [&] {
+    return cancellation_.cancelled() || turn_.load(std::memory_order_relaxed) != turn;
+  });
+  --waiting_workers_;
 }
 
 void SlabWriteTurns::write_recorded(unsigned w, bool one_slab) {
   Pool& pool = pools_[w];
-  for (;;) {
-    SlabChunk* chunk = nullptr;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (pool.recorded.empty()) return;
-      chunk = pool.recorded.front();
-      pool.recorded.pop_front();
-    }
+  while (!pool.recorded.empty()) {
+    SlabChunk* chunk = pool.recorded.front();
+    pool.recorded.pop_front();
     const bool last = chunk->last;
     write_chunk(w, chunk);
     if (one_slab && last) return;
@@ -145,33 +171,20 @@ void SlabWriteTurns::write_chunk(unsigned w, SlabChunk* chunk) {
     if (status != Status::ok) refused(status);
   }
   chunk->clear();
-  bool waiting = false;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    pools_[w].free.push_back(chunk);
-    waiting = waiting_workers_ > 0;
-  }
-  if (waiting) changed_.notify_all();
+  pools_[w].free.push_back(chunk);
 }
 
 void SlabWriteTurns::hand_on(std::uint32_t slab) {
-  for (;; ++slab) {
-    bool extracted = false;
-    bool wake = false;
-    const unsigned owner = slab % workers_;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      turn_.store(slab, std::memory_order_release);
-      // Slab `slab` is its owner's (slab / workers_)-th; extracted to the end, it waits recorded.
-      extracted = slab < slabs_ && pools_[owner].ended > slab / workers_;
-      // Waking a thread costs tens of microseconds here: only a worker waiting for its turn,
-      // and the caller of wait_written() once all is written, are woken.
-      wake = waiting_workers_ > 0 || slab == slabs_;
-    }
-    if (wake) changed_.notify_all();
-    if (!extracted) return;
-    write_recorded(owner, true);
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    turn_.store(slab, std::memory_order_release);
+    // Waking a thread costs tens of microseconds here: only workers that wait for a turn, and
+    // the caller of wait_written() once all is written, are woken. The others see the turn at
+    // their next call or between two slices.
+    wake = waiting_workers_ > 0 || slab == slabs_;
   }
+  if (wake) changed_.notify_all();
 }
 
 void SlabWriteTurns::refused(Status status) {

@@ -1,20 +1,20 @@
 #pragma once
 // Whose turn it is to write, in the slab-parallel pipeline (slab_extraction.h). The mesh is
-// written slab by slab, in order. The worker extracting the lowest slab not yet written writes
-// its engine's output straight into the mesh writer as it comes (SlabRecorder::Handover::
-// writer); the workers ahead of it record theirs in chunks. When a slab is written, its writer
-// hands the turn on: to the next slab's worker, which writes what it recorded and goes on
-// writing straight, or, when that slab is already extracted and its worker has moved on, to
-// itself, writing the recorded slab before it hands the turn on again.
+// written slab by slab, in order, and each worker writes its own slabs. The worker of the
+// lowest slab not yet written writes its engine's output straight into the mesh writer as it
+// comes (SlabRecorder::Handover::writer); the workers ahead record theirs in chunks. When a
+// slab is written, its writer hands the turn on to the next slab; that slab's worker, at its
+// next call or between two slices (poll), writes what it recorded and, if the slab is still
+// being extracted, goes on writing straight.
 //
-// So no thread does nothing but write, and the output of the slab being written crosses no
-// thread: on two cores, the two workers' engines run on both, and about half the output is
-// recorded and written later, by the core that recorded it, while its chunks are still in its
-// cache. Before, one more thread took every slab's chunks and wrote them, and on two cores it
-// took a third of a core from the engines.
+// So no thread does nothing but write, the output of the slab being written crosses no
+// thread, and recorded output is written by the core that recorded it, while its chunks are
+// still in that core's cache. Before, one more thread took every slab's chunks and wrote them,
+// and on two cores it took a third of a core from the engines; and when the worker handing the
+// turn on wrote the next slab itself, it ended up writing every slab while the other waited.
 //
 // Each worker has kChunksPerWorker chunks. A worker ahead of the writer whose chunks are all
-// full waits until a chunk is written and given back, or until its own turn comes.
+// full waits until its turn comes, then writes them itself.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -42,9 +42,12 @@ class SlabWriteTurns {
                  std::function<void()> cancel);
   ~SlabWriteTurns();
 
-  // Worker w's handover for its recorder. Call start_slab() before each slab it extracts.
+  // Worker w's handover for its recorder. Call start_slab() before each slab it extracts, and
+  // finish_worker() after its last: it waits for the turns of the slabs it left recorded and
+  // writes them.
   SlabRecorder::Handover& handover(unsigned w);
   void start_slab(unsigned w, std::uint32_t slab);
+  void finish_worker(unsigned w);
 
   // Waits until every slab is written or the run is cancelled, calling `written(k)` on this
   // thread, in order, for k = 1..slabs, once slabs 0..k-1 are written (it looks every 50 ms
@@ -69,14 +72,19 @@ class SlabWriteTurns {
   SlabReplay* writer(unsigned w, SlabChunk* current);
   void refused(Status status);
 
+  // If the turn is at worker w's oldest slab not yet written: writes it when it is extracted
+  // (and hands the turn on, and looks again), or starts writing the slab it extracts, with
+  // what it recorded of it so far (the recorder's current chunk waits for writer()).
+  void catch_up(unsigned w);
   // Writes worker w's recorded chunks, oldest first: all it holds, or with `one_slab` those up
-  // to and including the next slab's last chunk. Each goes back to w's free chunks.
+  // to and including the oldest slab's last chunk. Each goes back to w's free chunks.
   void write_recorded(unsigned w, bool one_slab);
   // Replays one chunk and gives it back to worker `w`.
   void write_chunk(unsigned w, SlabChunk* chunk);
-  // Slab `slab` - 1 is written: the turn goes to `slab`, and this thread writes every slab after
-  // it that is already extracted.
+  // Slab `slab` - 1 is written: the turn goes to `slab`.
   void hand_on(std::uint32_t slab);
+  // Waits for a turn to change (or the run to be cancelled).
+  void wait_for_turn(std::unique_lock<std::mutex>& lock);
 
   SlabReplay replay_;
   std::uint32_t slabs_;
