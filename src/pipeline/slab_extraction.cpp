@@ -364,7 +364,8 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   result.times.total_s = seconds_since(start);
   result.times.read_s = read_seconds;
   result.times.write_s = write_seconds;
-  result.times.extract_s = result.times.total_s - write_seconds;
+  // Summed over the workers, the writing can exceed the wall time.
+  result.times.extract_s = std::max(0.0, result.times.total_s - write_seconds);
   return result;
 }
 

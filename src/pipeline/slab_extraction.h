@@ -88,8 +88,9 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
 // options.picture as run_pipeline() does with one engine, with the same result (extraction
 // counters summed over the slabs; the picture's counters are the layers', summed), with at
 // most one worker per slab. Phase times overlap here: read_s is the time inside the sources
-// (the reading thread's, or the workers' summed), write_s the caller's time inside the writer,
-// render_s compositing the picture's layers, extract_s the rest of the wall time. Throws
+// (the reading thread's, or the workers' summed), write_s the workers' time inside the writer,
+// summed, render_s compositing the picture's layers, extract_s the rest of the wall time (0
+// when the summed writing exceeds it). Throws
 // mvox::Error naming `input_label` for an engine error, a source that ends before its depth, or
 // whatever the source throws; the writer's own error is left in the writer (status
 // sink_refused), as run_pipeline() leaves it.
