@@ -157,7 +157,8 @@ Status SlabRecorder::consume_polygons(const Polygon* polygons, std::size_t count
 Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, std::size_t count) {
   if (!placement_) return Status::ok;
   try {
-    // The polygons before it went the same way: a slab's turn does not come between the two.
+    // If the turn came between the polygons and their geometry, the polygons were recorded and
+    // are written first (writer()): the writer keeps them until their geometry comes.
     if (SlabReplay* writer = handover_.writer(chunk_)) {
       const auto start = Clock::now();
       return written(writer->geometry(polygons, count), seconds_since(start));
