@@ -24,6 +24,7 @@
 #include "pipeline/slab_write_turns.h"
 #include "pipeline/stopwatch.h"
 #include "read/range_readable.h"
+#include "read/read_buffer.h"
 #include "read/read_cancellation.h"
 #include "write/mesh/mesh_writer.h"
 
@@ -48,7 +49,7 @@ struct SlabCuts {
 
 struct SliceItem {
   std::uint32_t z = 0;
-  std::vector<unsigned char>* samples = nullptr;
+  ReadBuffer* samples = nullptr;
 };
 
 struct Worker {
@@ -56,7 +57,7 @@ struct Worker {
          std::size_t workspace_bytes)
       : slices(cancellation),
         free_slices(cancellation),
-        slice_storage(buffer_slices, std::vector<unsigned char>(slice_bytes)),
+        slice_storage(buffer_slices, ReadBuffer(slice_bytes)),
         workspace(workspace_bytes) {
     for (auto& samples : slice_storage) free_slices.push(&samples);
   }
@@ -67,8 +68,8 @@ struct Worker {
   }
 
   BlockingQueue<SliceItem> slices;  // from the reader, in increasing z
-  BlockingQueue<std::vector<unsigned char>*> free_slices;
-  std::vector<std::vector<unsigned char>> slice_storage;
+  BlockingQueue<ReadBuffer*> free_slices;
+  std::vector<ReadBuffer> slice_storage;
   WorkspaceBuffer workspace;
   std::optional<NormalWindow> normals;
   std::unique_ptr<PictureLayer> layer;  // with a picture: this worker's slabs drawn
@@ -77,7 +78,7 @@ struct Worker {
   double write_seconds = 0;  // inside the mesh writer, writing its output straight
 };
 
-SliceView packed_view(const VolumeInfo& info, const std::vector<unsigned char>& samples) {
+SliceView packed_view(const VolumeInfo& info, const ReadBuffer& samples) {
   SliceView view;
   view.samples = samples.data();
   view.width = info.width;
@@ -87,7 +88,7 @@ SliceView packed_view(const VolumeInfo& info, const std::vector<unsigned char>& 
   return view;
 }
 
-void copy_slice(const SliceView& from, std::vector<unsigned char>& to) {
+void copy_slice(const SliceView& from, ReadBuffer& to) {
   const std::size_t row_bytes = std::size_t{from.width} * sample_bytes(from.type);
   const auto* source = static_cast<const unsigned char*>(from.samples);
   if (from.row_stride_bytes == row_bytes) {
@@ -115,7 +116,7 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
       const SlabSpan span = cuts.span(slab);
       if (z < span.read_from || z >= span.read_to) continue;
       Worker& worker = *workers[slab % threads];
-      const std::optional<std::vector<unsigned char>*> samples = worker.free_slices.pop();
+      const std::optional<ReadBuffer*> samples = worker.free_slices.pop();
       if (!samples) return;  // cancelled
       copy_slice(view, **samples);
       worker.slices.push({z, *samples});
