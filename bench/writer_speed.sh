@@ -3,8 +3,10 @@
 # run RUNS times, interleaved with copying a file of the same size (cp: reading it from the page
 # cache and writing it, what any writer of that file must at least do), and with reading the
 # input (cat). Prints a Markdown table of medians: the writer's time as --stats reports it (the
-# time spent in the mesh sink and in finishing the file), the copy's, their ratio, and the
-# whole run's wall time against reading the input plus copying the output.
+# time spent in the mesh sink and in finishing the file) in a `--threads 1` run, where one
+# thread does everything, the copy's, their ratio, and the wall time of a run with the default
+# threads (slab workers from 64 MiB of samples, which share the writing) against reading the
+# input plus copying the output.
 #   bench/writer_speed.sh MVOX VOLUME.raw WxHxD THRESHOLD [RUNS] [SCRATCH_DIR]
 # For the 1024^3 figures in docs/benchmarks.md:
 #   build/bench/mvox_bench_resample ../shared/datasets/engine/engine_256x256x128_uint8.raw \
@@ -29,15 +31,18 @@ seconds() {  # seconds COMMAND...: wall seconds of one run
   echo "$end - $start" | bc -l
 }
 
-echo "| format | file | writer (--stats write) | cp of the file | writer / cp | whole run | cat input + cp output | run / (cat + cp) |"
+echo "| format | file | writer (--stats write, --threads 1) | cp of the file | writer / cp | whole run | cat input + cp output | run / (cat + cp) |"
 echo "|---|---|---|---|---|---|---|---|"
 for format in ply stl obj ply-ascii; do
   extension=${format%%-*}
   : > writer.txt; : > copy.txt; : > run.txt; : > input.txt
   for _ in $(seq "$runs"); do
     rm -f "mesh.$extension" copy
+    "$mvox" extract "$volume" --raw "$size:u8" -t "$threshold" -o "mesh.$extension" \
+      --format "$format" --stats stats.json -q --threads 1
+    rm -f "mesh.$extension"
     seconds "$mvox" extract "$volume" --raw "$size:u8" -t "$threshold" -o "mesh.$extension" \
-      --format "$format" --stats stats.json -q >> run.txt
+      --format "$format" -q >> run.txt
     python3 -c 'import json; print(json.load(open("stats.json"))["time_seconds"]["write"])' \
       >> writer.txt
     seconds cp "mesh.$extension" copy >> copy.txt
