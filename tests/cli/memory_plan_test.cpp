@@ -126,10 +126,11 @@ TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
     ASSERT_GT(planned, 0) << json;
     EXPECT_LE(measured, planned * 1.02 + (1 << 20)) << json;
     const bool slabs = outputs.find("--threads") != std::string::npos;
-    // The plan counts every worker's chunks of recorded output, which a long run touches; in
-    // these two-slab runs the first slab's worker has the turn to write throughout and records
-    // nothing (slab_write_turns.h), so its chunks are never touched.
-    EXPECT_GE(measured, planned * (slabs ? 0.5 : 0.6)) << json;
+    // The plan counts every worker's chunks of recorded output (kChunksPerWorker of up to 1.5
+    // MiB), which a long run touches; in these two-slab runs the first slab's worker has the
+    // turn to write throughout and records nothing (slab_write_turns.h), so half the chunks the
+    // plan counts are never touched.
+    EXPECT_GE(measured, planned * (slabs ? 0.4 : 0.6)) << json;
     EXPECT_NE(json.find(slabs ? " slab workers (workspace, slices, window, recorded output)"
                               : "\"memory_plan\": {\"parts\": [{\"name\": \"engine workspace\""),
               std::string::npos)
