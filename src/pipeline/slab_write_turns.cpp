@@ -106,15 +106,7 @@ SlabReplay* SlabWriteTurns::writer(unsigned w, SlabChunk* current) {
   if (!pool.writing) return nullptr;
   // What the recorder's current chunk holds goes before the call: calls recorded before the
   // turn came, or only the slab's start (`first`, taken when the turn had come already).
-  if (current->first || !current->calls.empty()) {
-    if (status_ == Status::ok) {
-      const auto start = Clock::now();
-      const Status status = replay_.replay(*current);
-      replay_seconds_ += seconds_since(start);
-      if (status != Status::ok) refused(status);
-    }
-    current->clear();
-  }
+  if (current->first || !current->calls.empty()) replay_and_clear(*current);
   return &replay_;
 }
 
@@ -164,14 +156,19 @@ void SlabWriteTurns::write_recorded(unsigned w, bool one_slab) {
 }
 
 void SlabWriteTurns::write_chunk(unsigned w, SlabChunk* chunk) {
+  replay_and_clear(*chunk);
+  pools_[w].free.push_back(chunk);
+}
+
+void SlabWriteTurns::replay_and_clear(SlabChunk& chunk) {
+  // After a refusal nothing more is written: the run is being cancelled.
   if (status_ == Status::ok) {
     const auto start = Clock::now();
-    const Status status = replay_.replay(*chunk);
+    const Status status = replay_.replay(chunk);
     replay_seconds_ += seconds_since(start);
     if (status != Status::ok) refused(status);
   }
-  chunk->clear();
-  pools_[w].free.push_back(chunk);
+  chunk.clear();
 }
 
 void SlabWriteTurns::hand_on(std::uint32_t slab) {

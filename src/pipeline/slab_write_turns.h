@@ -81,6 +81,8 @@ class SlabWriteTurns {
   void write_recorded(unsigned w, bool one_slab);
   // Replays one chunk and gives it back to worker `w`.
   void write_chunk(unsigned w, SlabChunk* chunk);
+  // Replays `chunk` into the writer (unless it has refused already), timed, and empties it.
+  void replay_and_clear(SlabChunk& chunk);
   // Slab `slab` - 1 is written: the turn goes to `slab`.
   void hand_on(std::uint32_t slab);
   // Waits for a turn to change (or the run to be cancelled).
