@@ -10,8 +10,9 @@
 // So no thread does nothing but write, the output of the slab being written crosses no
 // thread, and recorded output is written by the core that recorded it, while its chunks are
 // still in that core's cache. Before, one more thread took every slab's chunks and wrote them,
-// and on two cores it took a third of a core from the engines; and when the worker handing the
-// turn on wrote the next slab itself, it ended up writing every slab while the other waited.
+// and on two cores it took a third of a core from the engines. (A first version of the turns
+// had the worker handing the turn on write the next slab itself when it was already extracted;
+// that put the writing unevenly on the workers, and a slab's chunks were read on the other core.)
 //
 // Each worker has kChunksPerWorker chunks. A worker ahead of the writer whose chunks are all
 // full waits until its turn comes, then writes them itself.
