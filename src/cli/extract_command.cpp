@@ -318,7 +318,13 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                    "CT presets in Hounsfield units instead of -t: bone (>= 300), skin (>= -300, "
                    "the body against air), fat (-190 .. -30), soft-tissue (-29 .. 150; muscle "
                    "and organs); for CT DICOM series, or any input with --hu")
-      ->check(CLI::IsMember({"bone", "skin", "fat", "soft-tissue"}));
+      // The presets' own table, so that a preset added there is accepted here.
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            return find_tissue(name) ? std::string()
+                                     : "'" + name + "' is not one of " + tissue_names();
+          },
+          "NAME"));
   command->add_flag("--hu", args->hounsfield,
                     "The input's values are Hounsfield units (a CT saved as NIfTI, NRRD, ...), "
                     "for --tissue");

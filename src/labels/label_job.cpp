@@ -1,7 +1,6 @@
 #include "labels/label_job.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -14,17 +13,13 @@
 #include "pipeline/mesh_job.h"
 #include "pipeline/peak_memory.h"
 #include "pipeline/progress.h"
+#include "pipeline/stopwatch.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
 #include "write/stats_json.h"
 
 namespace mvox {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // An engine extracting one label while the label is in the slices, with the mask it is fed.
 // Kept for the next label that appears once its own is gone: workspaces are allocated once.

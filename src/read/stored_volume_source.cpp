@@ -67,6 +67,14 @@ void convert_to_f32(StoredSample stored, unsigned char* bytes, std::size_t count
   }
 }
 
+// The slice buffer holds the stored samples, then the engine's in place (f64 is the wider of the
+// two, narrower samples widen to f32 or i16).
+std::uint64_t slice_buffer_bytes(const StoredVolume& volume) {
+  return std::max<std::uint64_t>(
+      stored_slice_bytes(volume),
+      std::uint64_t{volume.info.width} * volume.info.height * sample_bytes(volume.info.type));
+}
+
 }  // namespace
 
 StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data)
@@ -79,10 +87,7 @@ StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeD
 }
 
 std::uint64_t StoredVolumeSource::working_bytes() const {
-  // The slice buffer holds the stored samples, then the engine's (f64 is the wider of the two).
-  const std::uint64_t slice = std::max<std::uint64_t>(
-      stored_slice_bytes(volume_),
-      std::uint64_t{volume_.info.width} * volume_.info.height * sample_bytes(volume_.info.type));
+  const std::uint64_t slice = slice_buffer_bytes(volume_);
   // zlib's input buffer, a buffer to measure the stream into, and zlib's state and window.
   constexpr std::uint64_t kInflateBytes = 64 * 1024 + 64 * 1024 + 48 * 1024;
   return slice + (volume_.compression == Compression::none ? 0 : kInflateBytes);
@@ -192,11 +197,7 @@ bool StoredVolumeSource::next_slice(SliceView* slice) {
   if (next_index_ >= end_index_) return false;
   const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
   if (buffer_.empty())
-    resize_buffer(buffer_,
-                  std::max<std::uint64_t>(stored_bytes, std::uint64_t{volume_.info.width} *
-                                                            volume_.info.height *
-                                                            sample_bytes(volume_.info.type)),
-                  data_.path, "a slice");
+    resize_buffer(buffer_, slice_buffer_bytes(volume_), data_.path, "a slice");
   if (inflate_) {
     inflate_->read(buffer_.data(), stored_bytes,
                    data_.skip_decompressed + stored_volume_bytes(volume_), volume_text());
