@@ -5,9 +5,10 @@
 # time (hyperfine, no shell) and peak resident memory (/usr/bin/time), for one binary or for two
 # side by side (say, before and after a change).
 #   bench/startup_and_memory.sh MVOX [MVOX_BEFORE] [RUNS] [DATASETS_DIR]
-# Inputs: the paper's engine (raw, 256x256x128 u8) and MRbrain (a PNG stack), CThead (raw
-# slices), the tooth (NRRD) and a DICOM series from DATASETS_DIR (default ../shared/datasets);
-# rows whose data are absent are left out.
+# Inputs: the paper's engine (raw, 256x256x128 u8, and the same written as a multi-page TIFF by
+# bench/raw_to_tiff.py) and MRbrain (a PNG stack), CThead (raw slices), the tooth (NRRD) and a
+# DICOM series from DATASETS_DIR (default ../shared/datasets); rows whose data are absent are
+# left out.
 set -euo pipefail
 after=$(realpath "$1")
 before=${2:+$(realpath "$2")}
@@ -96,6 +97,12 @@ if [ -f "$engine" ]; then
     "$after" extract "$engine" --raw 256x256x128:u8 -t 100 -o e.ply -q
   row "engine, raw -> PLY + PNG" "... --image e.png" \
     "$after" extract "$engine" --raw 256x256x128:u8 -t 100 -o e.ply --image e.png -q
+  # The same volume as one multi-page TIFF (uncompressed, as ImageJ saves a stack).
+  python3 "$repo/bench/raw_to_tiff.py" "$engine" 256 256 128 engine.tif
+  row "engine, TIFF, --dry-run (start-up)" "mvox extract engine.tif -t 100 -o e.ply --dry-run" \
+    "$after" extract engine.tif -t 100 -o e.ply --dry-run
+  row "engine, TIFF -> PLY" "mvox extract engine.tif -t 100 -o e.ply" \
+    "$after" extract engine.tif -t 100 -o e.ply -q
 fi
 if [ -d "$datasets/cthead" ]; then
   row "CThead, raw slices -> PLY" "mvox extract cthead/CThead.* --raw 256x256:u16be -t 600 -o c.ply" \

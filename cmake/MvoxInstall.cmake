@@ -4,9 +4,9 @@
 #   find_package(mvox 0.1 CONFIG REQUIRED)
 #   target_link_libraries(app PRIVATE mvox::core)   # or mvox::sim, mvox::host
 #
-# The core needs GLM only. mvox::host, when it was built, is installed too (it needs libtiff,
-# libjpeg, libpng and zlib), with the modules that link OpenCV and GDCM in PREFIX/lib/mvox,
-# loaded when a run needs them: a program linking mvox::host never links either.
+# The core needs GLM only. mvox::host, when it was built, is installed too (it needs libjpeg,
+# libpng and zlib), with the modules that link libtiff, OpenCV and GDCM in PREFIX/lib/mvox,
+# loaded when a run needs them: a program linking mvox::host never links any of those.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -28,7 +28,7 @@ if(TARGET mvox_host)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/mvox-host
           FILES_MATCHING PATTERN "*.h" PATTERN "cli" EXCLUDE)
   install(EXPORT mvoxHostTargets NAMESPACE mvox:: DESTINATION ${mvox_package_dir})
-  # The modules that link OpenCV and GDCM, where module_loader.cpp looks for them.
+  # The modules that link libtiff, OpenCV and GDCM, where module_loader.cpp looks for them.
   install(TARGETS ${MVOX_MODULES} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/mvox)
 endif()
 if(TARGET mvox)

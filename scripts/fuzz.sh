@@ -62,7 +62,9 @@ for target in "${targets[@]}"; do
     -artifact_prefix="$work/artifacts/")
   if [ -f "$repo/fuzz/$target.dict" ]; then options+=(-dict="$repo/fuzz/$target.dict"); fi
   status=0
-  "$build/fuzz/$target" "${options[@]}" "$work/corpus" > "$work/log" 2>&1 || status=$?
+  # The TIFF target decodes through the TIFF module, which the build puts in src/.
+  MVOX_MODULE_PATH=$build/src "$build/fuzz/$target" "${options[@]}" "$work/corpus" \
+    > "$work/log" 2>&1 || status=$?
   runs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$work/log" | grep -o '[0-9]*$' || true)
   last=$(grep -E '^#[0-9]+' "$work/log" | tail -n 1 || true)
   coverage=$(grep -o 'cov: [0-9]*' <<< "$last" | grep -o '[0-9]*' || true)

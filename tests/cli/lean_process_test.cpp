@@ -1,6 +1,6 @@
-// A run loads the heavy libraries its input or outputs need, and no other: OpenCV's image codecs
-// and GDCM live in modules (modules/module_loader.h) that raw, NRRD, MetaImage, TIFF and PNG
-// runs, --help, phantom and demo never load. Checked the way the dynamic loader itself reports
+// A run loads the heavy libraries its input or outputs need, and no other: OpenCV's image codecs,
+// GDCM and libtiff live in modules (modules/module_loader.h) that raw, NRRD, MetaImage and PNG
+// runs, --help, phantom and demo never load, and a TIFF run loads libtiff's alone. Checked the way the dynamic loader itself reports
 // what it maps (LD_DEBUG=files), and by runs with no module directory at all; a run that needs a
 // missing module fails in one line that names it and how to install what it needs.
 #include <gtest/gtest.h>
@@ -26,6 +26,7 @@ using test::ScratchDirectory;
 struct Loaded {
   bool opencv = false;
   bool gdcm = false;
+  bool tiff = false;  // libtiff and its codec libraries
   bool mpi = false;  // only mvox-mpi links MPI
   int exit_code = -1;
   std::string output;
@@ -42,11 +43,15 @@ Loaded loaded_by(const std::string& arguments, const ScratchDirectory& dir) {
                   result.output.find("libmvox_image_codecs.so [0]") != std::string::npos;
   loaded.gdcm = result.output.find("file=libgdcm") != std::string::npos ||
                 result.output.find("libmvox_dicom_codecs.so [0]") != std::string::npos;
+  loaded.tiff = result.output.find("file=libtiff") != std::string::npos ||
+                result.output.find("libmvox_tiff_codecs.so [0]") != std::string::npos;
   loaded.mpi = result.output.find("file=libmpi") != std::string::npos;
   return loaded;
 }
 
-void expect_lean(const std::string& arguments, const ScratchDirectory& dir) {
+// Runs `arguments`, which must succeed and load neither OpenCV nor GDCM nor MPI, and libtiff
+// only when `tiff` says so.
+void expect_lean(const std::string& arguments, const ScratchDirectory& dir, bool tiff = false) {
   SCOPED_TRACE(arguments);
   const Loaded loaded = loaded_by(arguments, dir);
   EXPECT_EQ(loaded.exit_code, 0) << loaded.output.substr(
@@ -54,6 +59,7 @@ void expect_lean(const std::string& arguments, const ScratchDirectory& dir) {
   EXPECT_FALSE(loaded.opencv) << "OpenCV was loaded";
   EXPECT_FALSE(loaded.gdcm) << "GDCM was loaded";
   EXPECT_FALSE(loaded.mpi) << "MPI was loaded";
+  EXPECT_EQ(loaded.tiff, tiff) << (tiff ? "libtiff was not loaded" : "libtiff was loaded");
 }
 
 void write_tiff(const std::string& path, int pages) {
@@ -105,7 +111,7 @@ class LeanProcess : public ::testing::Test {
   ScratchDirectory dir_;
 };
 
-TEST_F(LeanProcess, HelpPhantomAndDemoLoadNeitherOpenCvNorGdcm) {
+TEST_F(LeanProcess, HelpPhantomAndDemoLoadNoModule) {
   expect_lean("--help", dir_);
   expect_lean("extract --help", dir_);
   expect_lean("phantom sphere -o stack --size 16x16x8 -q", dir_);
@@ -113,7 +119,7 @@ TEST_F(LeanProcess, HelpPhantomAndDemoLoadNeitherOpenCvNorGdcm) {
   expect_lean("demo --size 32 -o demo.ply --image demo.png -q", dir_);
 }
 
-TEST_F(LeanProcess, RawNrrdMetaImageTiffAndPngRunsLoadNeither) {
+TEST_F(LeanProcess, RawNrrdMetaImageAndPngRunsLoadNoModuleAndTiffLoadsLibtiffOnly) {
   std::vector<unsigned char> volume(8 * 6 * 4, 0);
   for (std::size_t i = 48; i < 144; ++i) volume[i] = (i % 8 > 2) ? 200 : 0;
   test::write_bytes(dir_.path() / "v.raw", volume);
@@ -135,7 +141,7 @@ TEST_F(LeanProcess, RawNrrdMetaImageTiffAndPngRunsLoadNeither) {
   expect_lean("extract v.raw --raw 8x6x4:u8" + outputs, dir_);
   expect_lean("extract v.nrrd" + outputs, dir_);
   expect_lean("extract v.mhd" + outputs, dir_);
-  expect_lean("extract v.tif" + outputs, dir_);
+  expect_lean("extract v.tif" + outputs, dir_, true);
   expect_lean("extract stack" + outputs + " --frames frames --every 2", dir_);
   expect_lean("extract stack16 -t 1000 -o m16.obj --image p16.png -q", dir_);
   expect_lean("render m.ply -o r.png", dir_);
@@ -173,7 +179,14 @@ TEST_F(LeanProcess, FormatsMvoxDoesNotDecodeLoadOpenCv) {
 TEST_F(LeanProcess, AMissingModuleIsOneLineNamingItAndHowToInstall) {
   const std::string nowhere = "MVOX_MODULE_PATH=/nonexistent/mvox-modules";
   write_dicom_series(dir_);
-  test::CommandResult result = run_mvox("extract dicom -t 100 -o m.ply -q", dir_.path(), nowhere);
+  write_tiff((dir_.path() / "v.tif").string(), 2);
+  test::CommandResult result = run_mvox("extract v.tif -t 100 -o t.ply -q", dir_.path(), nowhere);
+  test::expect_one_line_error(result, "v.tif");
+  EXPECT_NE(result.output.find("TIFF module (libtiff) libmvox_tiff_codecs.so"), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("apt-get install libtiff-dev"), std::string::npos) << result.output;
+
+  result = run_mvox("extract dicom -t 100 -o m.ply -q", dir_.path(), nowhere);
   test::expect_one_line_error(result, "dicom/s0.dcm");
   EXPECT_NE(result.output.find("DICOM module (GDCM) libmvox_dicom_codecs.so"), std::string::npos)
       << result.output;
@@ -191,7 +204,7 @@ TEST_F(LeanProcess, AMissingModuleIsOneLineNamingItAndHowToInstall) {
   result = run_mvox("extract stack -t 100 --image p.bmp -q", dir_.path(), nowhere);
   test::expect_one_line_error(result, "p.bmp");
   EXPECT_NE(result.output.find("libmvox_image_codecs.so"), std::string::npos) << result.output;
-  for (const char* output : {"m.ply", "p.bmp"})
+  for (const char* output : {"t.ply", "m.ply", "p.bmp"})
     EXPECT_FALSE(test::exists((dir_.path() / output).string())) << output;
 }
 

@@ -60,4 +60,14 @@ bool finish_tiff_samples(unsigned char* samples, std::size_t rows, std::size_t r
   }
 }
 
+void reverse_bit_order(unsigned char* bytes, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    unsigned b = bytes[i];
+    b = ((b & 0xF0u) >> 4) | ((b & 0x0Fu) << 4);
+    b = ((b & 0xCCu) >> 2) | ((b & 0x33u) << 2);
+    b = ((b & 0xAAu) >> 1) | ((b & 0x55u) << 1);
+    bytes[i] = static_cast<unsigned char>(b);
+  }
+}
+
 }  // namespace mvox

@@ -17,4 +17,8 @@ namespace mvox {
 bool finish_tiff_samples(unsigned char* samples, std::size_t rows, std::size_t row_samples,
                          std::size_t sample_bytes, bool byte_swapped, std::uint16_t predictor);
 
+// Reverses the order of the bits in each of `count` bytes, in place: what libtiff does to the
+// stored bytes of a page whose FillOrder is 2 (least significant bit first) before decoding.
+void reverse_bit_order(unsigned char* bytes, std::size_t count);
+
 }  // namespace mvox

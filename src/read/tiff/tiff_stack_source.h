@@ -1,6 +1,7 @@
 #pragma once
-// Reads TIFF files as one stack of slices through libtiff: every page (directory) of every
-// file, files in the given order and pages in file order, one page decoded at a time. A
+// Reads TIFF files as one stack of slices through libtiff, in the TIFF module (tiff_file.h):
+// every page (directory) of every file, files in the given order and pages in file order, one
+// page decoded at a time. A
 // multi-page TIFF is a whole volume in one file; single-page TIFF slices work the same way.
 #include <cstddef>
 #include <cstdint>
@@ -8,11 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "modules/tiff_codecs/tiff_codecs_api.h"
 #include "mvox/slice_source.h"
 #include "read/read_buffer.h"
 #include "read/zlib_stream_check.h"
 
 namespace mvox {
+
+class TiffFile;
 
 // Pages must be single-channel (min-is-black) 8-bit unsigned, 16-bit unsigned, 16-bit signed or
 // 32-bit float, all of the first page's size and type; striped or tiled, any compression libtiff
@@ -49,16 +53,14 @@ class TiffStackSource : public SliceSource {
   // libtiff's codec state (tens of KiB) is not counted.
   std::uint64_t working_bytes() const override;
 
-  struct Tiff;  // an open libtiff handle and the errors it reported
-
  private:
   void check_file(std::size_t file_index, std::uint64_t* pages);
-  void read_page(ReadBuffer& buffer, std::uint16_t compression);
+  void read_page(ReadBuffer& buffer, const mvox_tiff_page& tags);
   // Decodes strip or tile `index` of the current page, rows of `row_samples` samples, into
   // out[0, out_bytes); false when libtiff cannot. Deflate data are inflated whole here, so that
   // their checksum is checked (zlib_stream_check.h), and throw when corrupt.
-  bool read_chunk(std::uint32_t index, bool deflate, unsigned char* out, std::size_t out_bytes,
-                  std::size_t row_samples);
+  bool read_chunk(const mvox_tiff_page& tags, std::uint32_t index, bool deflate,
+                  unsigned char* out, std::size_t out_bytes, std::size_t row_samples);
 
   std::vector<std::string> files_;
   std::vector<std::uint64_t> pages_per_file_;  // counted by the constructor
@@ -71,7 +73,7 @@ class TiffStackSource : public SliceSource {
   std::uint64_t largest_tile_ = 0;           // decoded bytes of the largest tile
   std::uint64_t largest_deflate_chunk_ = 0;  // stored bytes of the largest deflate strip or tile
   std::uint64_t largest_libtiff_chunk_ = 0;  // ... of other compressed pages, which libtiff reads
-  std::unique_ptr<Tiff> open_;               // the file being streamed
+  std::unique_ptr<TiffFile> open_;           // the file being streamed
   std::size_t file_index_ = 0;               // of open_
   std::uint64_t page_in_file_ = 0;           // 0-based page of open_ that next_slice reads next
   std::uint32_t next_index_ = 0;             // slice of the stack that next_slice returns next

@@ -1,0 +1,40 @@
+// Fuzzes one TIFF file through the TIFF stack reader behind `mvox extract`
+// (src/read/tiff/tiff_stack_source.h): mvox's own checks of every directory (page format, strip
+// and tile sizes against the file and against what their codec can decode to, tile sizes
+// against the image), the deflate check, the predictor, and libtiff's decoding in the TIFF
+// module. The module is found through MVOX_MODULE_PATH (scripts/fuzz.sh and the seeds' test set
+// it to the build's src/).
+//
+// Input: the file. Properties: a file is refused with one printable line, or it streams exactly
+// the declared slices, each of the declared size. Run with -malloc_limit_mb (scripts/fuzz.sh
+// does), a directory that drives a large allocation is a finding even where no property check
+// sees it. Seeds: small stacks of every layout the tests write (tests/host/tiff_fuzz_seeds_test
+// writes them again with MVOX_WRITE_FUZZ_SEEDS=DIR).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "fuzz_check.h"
+#include "memory_file.h"
+#include "read/tiff/tiff_stack_source.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string& path = mvox::fuzz::memory_file_with(data, size);
+  try {
+    mvox::TiffStackSource source({path});
+    const mvox::VolumeInfo& info = source.info();
+    mvox::SliceView view;
+    std::uint32_t slices = 0;
+    while (source.next_slice(&view)) {
+      MVOX_FUZZ_CHECK(view.width == info.width && view.height == info.height, "slice size");
+      MVOX_FUZZ_CHECK(view.type == info.type, "slice type");
+      ++slices;
+    }
+    MVOX_FUZZ_CHECK(slices == info.depth, "slice count");
+  } catch (const mvox::Error& error) {
+    MVOX_FUZZ_CHECK(mvox::fuzz::is_one_printable_line(error.what()), error.what());
+  }
+  return 0;
+}

@@ -1,0 +1,118 @@
+#include "read/tiff/tiff_file.h"
+
+#include <filesystem>
+#include <mutex>
+
+#include "error.h"
+#include "modules/module_loader.h"
+
+namespace mvox {
+
+struct TiffCodecsApi {
+  decltype(&mvox_tiff_open) open = nullptr;
+  decltype(&mvox_tiff_close) close = nullptr;
+  decltype(&mvox_tiff_take_error) take_error = nullptr;
+  decltype(&mvox_tiff_read_directory) read_directory = nullptr;
+  decltype(&mvox_tiff_page_tags) page_tags = nullptr;
+  decltype(&mvox_tiff_chunk_location) chunk_location = nullptr;
+  decltype(&mvox_tiff_chunk_at) chunk_at = nullptr;
+  decltype(&mvox_tiff_read_chunk) read_chunk = nullptr;
+  decltype(&mvox_tiff_read_stored_chunk) read_stored_chunk = nullptr;
+  decltype(&mvox_tiff_decode_stored_chunk) decode_stored_chunk = nullptr;
+  decltype(&mvox_tiff_inflate_with_zlib) inflate_with_zlib = nullptr;
+};
+
+namespace {
+
+constexpr ModuleName kTiffCodecs{
+    "libmvox_tiff_codecs.so", "TIFF module (libtiff)",
+    "libtiff (apt-get install libtiff-dev; scripts/install_deps.sh installs it)"};
+
+// The module's functions, loaded at the first use; or mvox::Error(subject, why not).
+const TiffCodecsApi& api(const std::string& subject) {
+  static std::mutex mutex;
+  static TiffCodecsApi loaded;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (loaded.open != nullptr) return loaded;
+  void* handle = require_module(kTiffCodecs, "mvox_tiff_codecs_api_version",
+                                MVOX_TIFF_CODECS_API_VERSION, subject);
+  TiffCodecsApi f;
+  resolve_function(handle, "mvox_tiff_open", &f.open, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_close", &f.close, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_take_error", &f.take_error, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_read_directory", &f.read_directory, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_page_tags", &f.page_tags, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_chunk_location", &f.chunk_location, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_chunk_at", &f.chunk_at, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_read_chunk", &f.read_chunk, kTiffCodecs, subject);
+  resolve_function(handle, "mvox_tiff_read_stored_chunk", &f.read_stored_chunk, kTiffCodecs,
+                   subject);
+  resolve_function(handle, "mvox_tiff_decode_stored_chunk", &f.decode_stored_chunk, kTiffCodecs,
+                   subject);
+  resolve_function(handle, "mvox_tiff_inflate_with_zlib", &f.inflate_with_zlib, kTiffCodecs,
+                   subject);
+  loaded = f;
+  return loaded;
+}
+
+}  // namespace
+
+TiffFile::TiffFile(const std::string& path) : path_(path), api_(nullptr) {
+  std::error_code ignored;
+  if (!std::filesystem::exists(path_, ignored)) throw Error(path_, "no such file");
+  api_ = &api(path_);
+  char error[512] = "";
+  handle_ = api_->open(path_.c_str(), error, sizeof error);
+  if (!handle_) {
+    const std::string said = error[0] == '\0' ? "" : " (libtiff: " + std::string(error) + ")";
+    throw Error(path_, "cannot read as TIFF (unreadable, corrupt, truncated or not a TIFF)" + said);
+  }
+}
+
+TiffFile::~TiffFile() {
+  if (handle_) api_->close(handle_);
+}
+
+std::string TiffFile::take_error() {
+  char error[512] = "";
+  api_->take_error(handle_, error, sizeof error);
+  return error[0] == '\0' ? "" : " (libtiff: " + std::string(error) + ")";
+}
+
+bool TiffFile::read_directory() { return api_->read_directory(handle_) != 0; }
+
+mvox_tiff_page TiffFile::tags() {
+  mvox_tiff_page page;
+  api_->page_tags(handle_, &page);
+  return page;
+}
+
+bool TiffFile::chunk_location(std::uint32_t index, std::uint64_t* offset, std::uint64_t* bytes) {
+  return api_->chunk_location(handle_, index, offset, bytes) != 0;
+}
+
+std::uint32_t TiffFile::chunk_at(std::uint32_t x, std::uint32_t y) {
+  return api_->chunk_at(handle_, x, y);
+}
+
+bool TiffFile::read_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes) {
+  return api_->read_chunk(handle_, index, out, static_cast<std::int64_t>(bytes)) ==
+         static_cast<std::int64_t>(bytes);
+}
+
+bool TiffFile::read_stored_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes) {
+  return api_->read_stored_chunk(handle_, index, out, static_cast<std::int64_t>(bytes)) ==
+         static_cast<std::int64_t>(bytes);
+}
+
+bool TiffFile::decode_stored_chunk(std::uint32_t index, unsigned char* stored,
+                                   std::uint64_t stored_bytes, unsigned char* out,
+                                   std::uint64_t out_bytes) {
+  return api_->decode_stored_chunk(handle_, index, stored,
+                                          static_cast<std::int64_t>(stored_bytes), out,
+                                          static_cast<std::int64_t>(out_bytes)) != 0;
+}
+
+bool TiffFile::inflate_with_zlib() { return api_->inflate_with_zlib(handle_) != 0; }
+
+}  // namespace mvox

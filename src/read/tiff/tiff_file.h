@@ -1,0 +1,55 @@
+#pragma once
+// One open TIFF file, read through the TIFF module (modules/tiff_codecs/tiff_codecs_api.h),
+// which is loaded at the first file opened: libtiff and its codec libraries cost every process
+// that links them about a millisecond of start-up, so only runs that read TIFF load them.
+// A TiffFile is used by one thread at a time.
+#include <cstdint>
+#include <string>
+
+#include "modules/tiff_codecs/tiff_codecs_api.h"
+
+namespace mvox {
+
+struct TiffCodecsApi;  // the module's functions (tiff_file.cpp)
+
+class TiffFile {
+ public:
+  // Opens `path` at its first page. Throws mvox::Error naming the file when it does not exist,
+  // cannot be read as TIFF, or the TIFF module cannot be loaded (naming the module and what
+  // installs libtiff).
+  explicit TiffFile(const std::string& path);
+  ~TiffFile();
+  TiffFile(const TiffFile&) = delete;
+  TiffFile& operator=(const TiffFile&) = delete;
+
+  const std::string& path() const { return path_; }
+
+  // " (libtiff: MESSAGE)" for the first error libtiff reported since the last call, or "" when
+  // it reported none; forgets it.
+  std::string take_error();
+
+  // Moves to the next page: false after the last one or when its directory cannot be read
+  // (then take_error() says why).
+  bool read_directory();
+  mvox_tiff_page tags();
+  // The stored place of strip or tile `index` of the current page; false when unknown.
+  bool chunk_location(std::uint32_t index, std::uint64_t* offset, std::uint64_t* bytes);
+  // The strip holding row y, or the tile holding sample (x, y).
+  std::uint32_t chunk_at(std::uint32_t x, std::uint32_t y);
+  // Strip or tile `index` decoded into out[0, bytes): true when it filled exactly that.
+  bool read_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes);
+  // Its stored bytes into out[0, bytes): true when all were read.
+  bool read_stored_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes);
+  // Decodes stored bytes (in stored bit order) as read_chunk would.
+  bool decode_stored_chunk(std::uint32_t index, unsigned char* stored, std::uint64_t stored_bytes,
+                           unsigned char* out, std::uint64_t out_bytes);
+  // libtiff inflates this page's deflate data with zlib, not libdeflate (see the API).
+  bool inflate_with_zlib();
+
+ private:
+  std::string path_;
+  const TiffCodecsApi* api_;
+  mvox_tiff* handle_ = nullptr;
+};
+
+}  // namespace mvox

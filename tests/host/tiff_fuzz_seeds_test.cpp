@@ -1,0 +1,69 @@
+// The TIFF fuzzer's seeds (fuzz/corpus/tiff_stack_fuzzer/): a small stack of every layout the
+// reader's tests write (striped, one row a strip with deflate, tiled, tiled with LZW), in 8 and
+// 16 bits, plus deflate with the horizontal predictor. MVOX_WRITE_FUZZ_SEEDS=DIR writes them
+// into DIR; the test checks that each committed seed still reads as the samples it was made of.
+#include <tiffio.h>
+
+#include <cctype>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "command_runner.h"
+#include "gtest/gtest.h"
+#include "tiff_stack_files.h"
+#include "volume_samples.h"
+
+namespace fs = std::filesystem;
+
+namespace mvox {
+namespace {
+
+using test::tiff_stack_files::Layout;
+using test::tiff_stack_files::read_stack;
+using test::tiff_stack_files::write_stack;
+
+constexpr std::uint32_t kSeedWidth = 21, kSeedHeight = 18, kSeedDepth = 2;
+
+// Writes the seed `name` holding the phantom's samples of type T into `dir`, and checks the
+// committed copy of it reads back as those samples.
+template <typename T>
+void check_seed(const std::string& name, const Layout& layout,
+                const std::function<void(TIFF*)>& extra = {}) {
+  SCOPED_TRACE(name);
+  const std::vector<T> samples = test::phantom_samples<T>(kSeedWidth, kSeedHeight, kSeedDepth);
+  if (const char* write_to = std::getenv("MVOX_WRITE_FUZZ_SEEDS")) {
+    write_stack((fs::path(write_to) / name).string(), samples, kSeedWidth, kSeedHeight, 0,
+                kSeedDepth, layout, extra);
+  }
+  const fs::path committed = fs::path(MVOX_FUZZ_CORPUS) / "tiff_stack_fuzzer" / name;
+  ASSERT_TRUE(fs::exists(committed)) << committed << " is missing";
+  EXPECT_EQ(read_stack<T>({committed.string()}), samples);
+}
+
+TEST(TiffFuzzSeeds, EveryCommittedSeedReadsAsTheSamplesItWasMadeOf) {
+  for (const Layout& layout : test::tiff_stack_files::kLayouts) {
+    std::string name;  // "tiled 16x16, LZW" -> "tiled_16x16_LZW"
+    for (const char c : std::string(layout.name)) {
+      if (std::isalnum(static_cast<unsigned char>(c)))
+        name += c;
+      else if (name.back() != '_')
+        name += '_';
+    }
+    check_seed<std::uint8_t>("u8_" + name + ".tif", layout);
+    check_seed<std::uint16_t>("u16_" + name + ".tif", layout);
+  }
+  const Layout deflate{"striped, deflate", false, 6, COMPRESSION_ADOBE_DEFLATE};
+  check_seed<std::int16_t>("i16_deflate_predictor.tif", deflate, [](TIFF* tiff) {
+    TIFFSetField(tiff, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
+  });
+  check_seed<float>("f32_deflate_float_predictor.tif", deflate, [](TIFF* tiff) {
+    TIFFSetField(tiff, TIFFTAG_PREDICTOR, PREDICTOR_FLOATINGPOINT);
+  });
+}
+
+}  // namespace
+}  // namespace mvox
