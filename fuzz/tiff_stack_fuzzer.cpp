@@ -18,7 +18,16 @@
 #include "error.h"
 #include "fuzz_check.h"
 #include "memory_file.h"
+#include "read/tiff/tiff_file.h"
 #include "read/tiff/tiff_stack_source.h"
+
+// Without the module every input would be refused in the same line, and the run would pass
+// having fuzzed nothing.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  const std::string problem = mvox::load_tiff_module();
+  MVOX_FUZZ_CHECK(problem.empty(), problem);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string& path = mvox::fuzz::memory_file_with(data, size);

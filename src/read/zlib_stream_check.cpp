@@ -27,10 +27,15 @@ ZlibStreamCheck::Result ZlibStreamCheck::inflate(const unsigned char* bytes, std
     return {"zlib cannot restart", 0};
   }
   z_stream& z = stream_->z;
+  // inflateReset keeps the counts the last stream left: a stream that ended before its stored
+  // bytes did, or inflated past the caller's bytes into the scratch buffer, would hand this one
+  // its leftover counts with the new pointers (a read past `bytes`, a write past `out`).
   z.next_in = const_cast<unsigned char*>(bytes);  // zlib's API is not const, but only reads
+  z.avail_in = 0;
+  z.next_out = out;
+  z.avail_out = 0;
   std::size_t in_left = size;
   std::size_t out_left = out_bytes;
-  z.next_out = out;
   Result result;
   for (;;) {
     // zlib counts in uInt: very large strips go in pieces.

@@ -57,6 +57,15 @@ const TiffCodecsApi& api(const std::string& subject) {
 
 }  // namespace
 
+std::string load_tiff_module() {
+  try {
+    api("TIFF");
+    return "";
+  } catch (const Error& error) {
+    return error.what();
+  }
+}
+
 TiffFile::TiffFile(const std::string& path) : path_(path), api_(nullptr) {
   std::error_code ignored;
   if (!std::filesystem::exists(path_, ignored)) throw Error(path_, "no such file");

@@ -52,4 +52,8 @@ class TiffFile {
   mvox_tiff* handle_ = nullptr;
 };
 
+// Loads the TIFF module now, if it is not loaded yet: "" when it is, otherwise the one-line
+// reason. For programs that must not take a missing module for a refused file (the fuzzer).
+std::string load_tiff_module();
+
 }  // namespace mvox
