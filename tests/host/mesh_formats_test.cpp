@@ -34,6 +34,7 @@
 #include "write/mesh/obj_writer.h"
 #include "write/mesh/ply_writer.h"
 #include "write/mesh/stl_writer.h"
+#include "write/mesh/vertex_placement.h"
 #include "write/mesh/world_transform.h"
 
 namespace mvox {
@@ -409,6 +410,36 @@ TEST(WorldTransform, IdentityAxesGiveExactlyOriginPlusSpacingTimesVoxel) {
     EXPECT_EQ(p[2], 7e6 + (1.0 / 3.0) * (v + 2));
     EXPECT_EQ(t.axis_aligned_position(v, v + 1, v + 2), p);  // the writers' fast path
   }
+}
+
+// place() has a branch-free path for identity axes without normals; it must give the floats
+// and the first vertex beyond float's range that the careful path gives.
+TEST(VertexPlacement, BothPathsPlaceAlikeAndNameTheFirstVertexBeyondFloatsRange) {
+  WorldTransform t;
+  t.spacing = {1e36, 0.3, 1.0 / 3.0};
+  t.origin = {-12.345, 1e-3, 7e6};
+  t.check("test");
+  const VertexPlacement fast(t, false), careful(t, true);
+  std::vector<Vertex> vertices;
+  for (float v : {0.0f, 0.5f, 2.5f, 123.5f}) vertices.push_back({v, v + 1, v + 2});
+  const std::vector<glm::vec3> normals(8, glm::vec3(0, 0, 1));
+  std::vector<WorldVertex> a(8), b(8);  // room for the vertices added below
+  ASSERT_EQ(fast.place(vertices.data(), nullptr, vertices.size(), a.data()), vertices.size());
+  ASSERT_EQ(careful.place(vertices.data(), normals.data(), vertices.size(), b.data()),
+            vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const Vector3d p = t.axis_aligned_position(vertices[i].x, vertices[i].y, vertices[i].z);
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_EQ(a[i].position[axis], static_cast<float>(p[axis]));
+      EXPECT_EQ(b[i].position[axis], static_cast<float>(p[axis]));
+    }
+  }
+  // 1000 * 1e36 along x passes float's largest value (3.4e38): vertex 4 of 5.
+  vertices.push_back({1000.0f, 0.0f, 0.0f});
+  EXPECT_EQ(fast.place(vertices.data(), nullptr, vertices.size(), a.data()), 4u);
+  EXPECT_EQ(careful.place(vertices.data(), normals.data(), vertices.size(), b.data()), 4u);
+  vertices.push_back({0.0f, 0.0f, 0.0f});  // one inside after it changes nothing
+  EXPECT_EQ(fast.place(vertices.data(), nullptr, vertices.size(), a.data()), 4u);
 }
 
 TEST(WorldTransform, MirroringAxesReverseTheWindingSoTheVolumeStaysPositive) {
