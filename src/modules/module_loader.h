@@ -1,8 +1,9 @@
 #pragma once
 // Finds and loads mvox's modules: shared libraries holding the only code that links a heavy
-// library (OpenCV's image codecs, GDCM, OpenCV's highgui and Qt), so that a run loads one only
-// when its input or outputs need it. A raw volume, NRRD, MetaImage, TIFF or PNG run, `--help`,
-// `phantom` and `demo` load none: that is most of mvox's start-up time and memory saved.
+// library (OpenCV's image codecs, GDCM, libtiff with its codec libraries, OpenCV's highgui and
+// Qt), so that a run loads one only when its input or outputs need it. A raw volume, NRRD,
+// MetaImage or PNG run, `--help`, `phantom` and `demo` load none, and a TIFF run libtiff's
+// alone: that is most of mvox's start-up time and memory saved.
 //
 // Each module has a C interface (modules/*/..._api.h) with a version function, so that a module
 // from another build is refused instead of being called with the wrong arguments; C, because
