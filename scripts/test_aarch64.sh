@@ -12,8 +12,11 @@
 #
 # Installs what it needs first (apt-get, idempotent; adds dpkg's arm64 architecture for the
 # multiarch packages libgtest-dev:arm64, libtiff-dev:arm64, ...). Build trees in build-aarch64/.
-# Prints a summary; exits non-zero on any failure. 2 to 3 minutes on 2 cores from scratch, 25 s
-# when the builds are up to date.
+# Prints a summary; exits non-zero on any failure. From scratch on 2 cores, 2 to 3 minutes on a
+# quiet machine and 12 on a busy one (packages 1 min, core build 5, tests under QEMU 1.5, the
+# mvox build 4.5); 25 s when the builds are up to date. Run the arm64 mvox by hand without
+# `-L /usr/aarch64-linux-gnu` (cmake/aarch64-linux-gnu.cmake says why: it hangs starting a
+# thread).
 #
 #   scripts/test_aarch64.sh
 #
