@@ -114,21 +114,14 @@ void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_cou
   // batch; the message is built only for a batch that fails. A slab's indices are moved by one
   // offset: below 2^32 vertices every moved index is below 2^32 too, so the largest, moved
   // without wrapping, must be in range.
-  // The corners' maximum is a tree, not a chain of seven dependent steps through `highest`.
-  static_assert(kMaxPolygonVertices == 7, "the tree below takes seven corners");
   std::uint32_t highest = 0;
   bool sizes_ok = true;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];
     const unsigned count = polygon.vertex_count;
     sizes_ok &= count - 3u <= unsigned{kMaxPolygonVertices} - 3u;
-    std::uint32_t corner[kMaxPolygonVertices];
     for (int k = 0; k < kMaxPolygonVertices; ++k)
-      corner[k] = k < static_cast<int>(count) ? polygon.vertices[k] : 0;
-    const std::uint32_t largest =
-        std::max(std::max(std::max(corner[0], corner[1]), std::max(corner[2], corner[3])),
-                 std::max(std::max(corner[4], corner[5]), corner[6]));
-    highest = std::max(highest, largest);
+      if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
   }
   // Below 2^32 vertices an index is its whole self. Beyond, whole_vertex_index() puts every
   // index among the last 2^32 taken: none can be out of range.

@@ -162,12 +162,8 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
       const int corners = face.vertex_count;
       // MeshWriter checked every face; checked again so the record provably fits.
       if (corners > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
-      // Every corner slot is stored, without a branch on the count, and the record ends after
-      // its own corners: the next one overwrites the rest (there is room for the largest).
-      out[0] = static_cast<unsigned char>(corners);
-      for (int k = 0; k < kMaxPolygonVertices; ++k)
-        store_le32(out + 1 + 4 * k, face.vertices[k] + index_offset);
-      out += 1 + 4 * corners;
+      *out++ = static_cast<unsigned char>(corners);
+      for (int k = 0; k < corners; ++k) out = store_le32(out, face.vertices[k] + index_offset);
     }
     faces_.commit(static_cast<std::size_t>(out - start));
   }

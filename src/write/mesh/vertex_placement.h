@@ -34,10 +34,6 @@ class VertexPlacement {
   bool with_normals() const { return with_normals_; }
 
  private:
-  // place() for identity axes without normals, the common case, in one branch-free pass.
-  std::size_t place_axis_aligned(const Vertex* vertices, std::size_t count,
-                                 WorldVertex* out) const;
-
   WorldTransform transform_;
   bool axis_aligned_;
   Matrix3d normal_matrix_;
