@@ -38,14 +38,20 @@ for format in ply stl obj ply-ascii; do
   : > writer.txt; : > copy.txt; : > run.txt; : > input.txt
   for _ in $(seq "$runs"); do
     rm -f "mesh.$extension" copy
+    # Every timed command starts after sync (not timed): one run's dirty pages must not throttle
+    # the next run's writes (cp's time swung from 0.3 to 1.8 s without it).
+    sync
     "$mvox" extract "$volume" --raw "$size:u8" -t "$threshold" -o "mesh.$extension" \
       --format "$format" --stats stats.json -q --threads 1
     rm -f "mesh.$extension"
+    sync
     seconds "$mvox" extract "$volume" --raw "$size:u8" -t "$threshold" -o "mesh.$extension" \
       --format "$format" -q >> run.txt
     python3 -c 'import json; print(json.load(open("stats.json"))["time_seconds"]["write"])' \
       >> writer.txt
+    sync
     seconds cp "mesh.$extension" copy >> copy.txt
+    sync
     seconds sh -c "cat '$volume' > /dev/null" >> input.txt
   done
   bytes=$(stat -c %s "mesh.$extension")

@@ -229,12 +229,19 @@ bool StoredVolumeSource::next_slice(SliceView* slice) {
   return true;
 }
 
-std::string read_file_start(RawFile& file, std::size_t max_bytes) {
-  const std::size_t count =
+std::string read_file_start(RawFile& file, std::size_t max_bytes,
+                            bool (*complete)(const std::string& text)) {
+  const std::size_t limit =
       static_cast<std::size_t>(std::min<std::uint64_t>(file.size_bytes(), max_bytes));
-  std::string text(count, '\0');
-  file.read_at(0, text.data(), count);
-  return text;
+  std::size_t wanted = complete ? std::min<std::size_t>(limit, 64 * 1024) : limit;
+  std::string text;
+  for (;;) {
+    const std::size_t had = text.size();
+    text.resize(wanted);
+    file.read_at(had, text.data() + had, wanted - had);
+    if (wanted == limit || complete(text)) return text;
+    wanted = std::min(limit, 4 * wanted);
+  }
 }
 
 std::string resolve_data_file(const std::string& header_path, const std::string& data_file) {

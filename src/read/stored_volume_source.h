@@ -76,8 +76,13 @@ class StoredVolumeSource : public SliceSource, public RangeReadable {
   std::uint32_t end_index_ = 0;  // the depth, or a range's end (open_range)
 };
 
-// The first min(file size, max_bytes) bytes of `file`, where a text header is.
-std::string read_file_start(RawFile& file, std::size_t max_bytes);
+// The first min(file size, max_bytes) bytes of `file`, where a text header is. With `complete`,
+// the bytes are read 64 KiB first, then four times as many at a time, until complete(text)
+// says the header is all there (or the limit is reached): a header of a few hundred bytes in
+// front of a large volume then costs one small read, not a megabyte copied and allocated at
+// every start.
+std::string read_file_start(RawFile& file, std::size_t max_bytes,
+                            bool (*complete)(const std::string& text) = nullptr);
 
 // `data_file` as named in the header `header_path`: relative names are relative to the
 // header's directory. Throws mvox::Error naming the header when the file does not exist, is a

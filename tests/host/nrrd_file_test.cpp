@@ -160,6 +160,32 @@ TEST(NrrdVolume, ConcatenatedGzipMembersAreOneStream) {
   EXPECT_EQ(read_volume<std::int16_t>(dir / "two_members.nrrd"), samples);
 }
 
+// The header is read 64 KiB first, then more until its blank line is in (read_file_start): a
+// blank line split across the first read's end, and headers of several reads, are found.
+TEST(NrrdVolume, HeadersLongerThanTheFirstReadAreReadWhole) {
+  const std::vector<std::uint8_t> samples =
+      test::phantom_samples<std::uint8_t>(kWidth, kHeight, kDepth);
+  const std::vector<unsigned char> raw(samples.begin(), samples.end());
+  ScratchDirectory dir;
+  const std::string fields =
+      "NRRD0004\ntype: uint8\ndimension: 3\nsizes: " + std::string(kSizes) + "\nencoding: raw\n";
+  // Comment lines of "# xxx...\n", the last one cut so that the header holds exactly `bytes`.
+  auto header_of = [&](std::size_t bytes) {
+    std::string header = fields;
+    while (header.size() + 100 < bytes) header += "# " + std::string(97, 'x') + "\n";
+    header += "# " + std::string(bytes - header.size() - 3, 'y') + "\n";
+    return header;
+  };
+  for (const std::size_t bytes : {std::size_t{65535}, std::size_t{65536}, std::size_t{65537},
+                                  std::size_t{300000}, std::size_t{900000}}) {
+    SCOPED_TRACE(bytes);
+    const std::string header = header_of(bytes);
+    ASSERT_EQ(header.size(), bytes);
+    write_file(dir / "long.nrrd", header + "\n", raw);
+    EXPECT_EQ(read_volume<std::uint8_t>(dir / "long.nrrd"), samples);
+  }
+}
+
 TEST(NrrdVolume, TwoDimensionsAreOneSlice) {
   const std::vector<std::uint8_t> samples = test::phantom_samples<std::uint8_t>(kWidth, kHeight, 1);
   ScratchDirectory dir;

@@ -38,13 +38,17 @@ std::uint64_t skip_lines(RawFile& file, std::uint64_t offset, std::uint64_t line
   return position;
 }
 
+// A NRRD header ends at its first blank line.
+bool has_blank_line(const std::string& text) {
+  return text.find("\n\n") != std::string::npos || text.find("\n\r\n") != std::string::npos;
+}
+
 }  // namespace
 
 std::unique_ptr<StoredVolumeSource> open_nrrd_volume(const std::string& path) {
   RawFile header_file(path);
-  const std::string text = read_file_start(header_file, kMaxHeaderBytes);
-  if (header_file.size_bytes() > text.size() && text.find("\n\n") == std::string::npos &&
-      text.find("\n\r\n") == std::string::npos) {
+  const std::string text = read_file_start(header_file, kMaxHeaderBytes, has_blank_line);
+  if (header_file.size_bytes() > text.size() && !has_blank_line(text)) {
     throw Error(path, "no blank line ends the header within its first " +
                           std::to_string(kMaxHeaderBytes) + " bytes");
   }
