@@ -1,8 +1,9 @@
 // A run loads the heavy libraries its input or outputs need, and no other: OpenCV's image codecs,
 // GDCM and libtiff live in modules (modules/module_loader.h) that raw, NRRD, MetaImage and PNG
-// runs, --help, phantom and demo never load, and a TIFF run loads libtiff's alone. Checked the way the dynamic loader itself reports
-// what it maps (LD_DEBUG=files), and by runs with no module directory at all; a run that needs a
-// missing module fails in one line that names it and how to install what it needs.
+// runs, --help, phantom and demo never load, and a TIFF run loads libtiff's alone. Checked the way
+// the dynamic loader itself reports what it maps (LD_DEBUG=files), and by runs with no module
+// directory at all; a run that needs a missing module fails in one line that names it and how to
+// install what it needs.
 #include <gtest/gtest.h>
 #include <tiffio.h>
 
@@ -27,7 +28,7 @@ struct Loaded {
   bool opencv = false;
   bool gdcm = false;
   bool tiff = false;  // libtiff and its codec libraries
-  bool mpi = false;  // only mvox-mpi links MPI
+  bool mpi = false;   // only mvox-mpi links MPI
   int exit_code = -1;
   std::string output;
 };

@@ -2,13 +2,14 @@
 // reader reuses one for every deflate strip and tile: each stream is inflated with its own
 // counts, whatever the last one left (found by tiff_stack_fuzzer: a strip that inflated past
 // its bytes handed the next strip 32 KiB of room in a 42-byte place).
+#include "read/zlib_stream_check.h"
+
 #include <zlib.h>
 
 #include <cstdint>
 #include <vector>
 
 #include "gtest/gtest.h"
-#include "read/zlib_stream_check.h"
 
 namespace mvox {
 namespace {
@@ -35,7 +36,8 @@ constexpr unsigned char kGuard = 0xAB;
 ZlibStreamCheck::Result inflate_guarded(ZlibStreamCheck& check, const Bytes& stream,
                                         std::size_t room, Bytes* placed) {
   Bytes out(room + 4096, kGuard);
-  const ZlibStreamCheck::Result result = check.inflate(stream.data(), stream.size(), out.data(), room);
+  const ZlibStreamCheck::Result result =
+      check.inflate(stream.data(), stream.size(), out.data(), room);
   for (std::size_t i = room; i < out.size(); ++i) {
     EXPECT_EQ(out[i], kGuard) << "written past the " << room << " bytes given, at " << i;
     if (out[i] != kGuard) break;

@@ -70,8 +70,7 @@ MVOX_TIFF_CODECS_EXPORT void mvox_tiff_close(mvox_tiff* tiff);
 
 // Writes the first error libtiff reported since the last call into `error` (`error_bytes`
 // long, always terminated; one line; "" when none) and forgets it.
-MVOX_TIFF_CODECS_EXPORT void mvox_tiff_take_error(mvox_tiff* tiff, char* error,
-                                                  size_t error_bytes);
+MVOX_TIFF_CODECS_EXPORT void mvox_tiff_take_error(mvox_tiff* tiff, char* error, size_t error_bytes);
 
 // Moves to the next directory: 1 when read; 0 after the last one, or when it cannot be read
 // (then an error is reported, see mvox_tiff_take_error).

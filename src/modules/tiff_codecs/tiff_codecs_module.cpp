@@ -121,8 +121,7 @@ void mvox_tiff_page_tags(mvox_tiff* tiff, mvox_tiff_page* page) {
   if (TIFFGetField(t, TIFFTAG_YRESOLUTION, &resolution)) page->y_resolution = resolution;
 }
 
-int mvox_tiff_chunk_location(mvox_tiff* tiff, uint32_t index, uint64_t* offset,
-                             uint64_t* bytes) {
+int mvox_tiff_chunk_location(mvox_tiff* tiff, uint32_t index, uint64_t* offset, uint64_t* bytes) {
   int error = 0;
   *offset = TIFFGetStrileOffsetWithErr(tiff->handle, index, &error);
   if (error) return 0;
@@ -141,8 +140,7 @@ int64_t mvox_tiff_read_chunk(mvox_tiff* tiff, uint32_t index, void* out, int64_t
                         : TIFFReadEncodedStrip(t, index, out, static_cast<tmsize_t>(out_bytes));
 }
 
-int64_t mvox_tiff_read_stored_chunk(mvox_tiff* tiff, uint32_t index, void* out,
-                                    int64_t out_bytes) {
+int64_t mvox_tiff_read_stored_chunk(mvox_tiff* tiff, uint32_t index, void* out, int64_t out_bytes) {
   TIFF* t = tiff->handle;
   return TIFFIsTiled(t) ? TIFFReadRawTile(t, index, out, static_cast<tmsize_t>(out_bytes))
                         : TIFFReadRawStrip(t, index, out, static_cast<tmsize_t>(out_bytes));

@@ -117,9 +117,8 @@ bool TiffFile::read_stored_chunk(std::uint32_t index, unsigned char* out, std::u
 bool TiffFile::decode_stored_chunk(std::uint32_t index, unsigned char* stored,
                                    std::uint64_t stored_bytes, unsigned char* out,
                                    std::uint64_t out_bytes) {
-  return api_->decode_stored_chunk(handle_, index, stored,
-                                          static_cast<std::int64_t>(stored_bytes), out,
-                                          static_cast<std::int64_t>(out_bytes)) != 0;
+  return api_->decode_stored_chunk(handle_, index, stored, static_cast<std::int64_t>(stored_bytes),
+                                   out, static_cast<std::int64_t>(out_bytes)) != 0;
 }
 
 bool TiffFile::inflate_with_zlib() { return api_->inflate_with_zlib(handle_) != 0; }

@@ -28,7 +28,7 @@ struct PageFormat {
   std::uint32_t height = 0;
   SampleType type = SampleType::u8;
   std::uint16_t compression = COMPRESSION_NONE;  // not part of the stack's format
-  mvox_tiff_page tags{};                          // all of the page's tags that mvox reads
+  mvox_tiff_page tags{};                         // all of the page's tags that mvox reads
 };
 
 std::string sample_text(SampleType type) {
@@ -61,7 +61,7 @@ PageFormat page_format(TiffFile& tiff, std::uint64_t page_index) {
 
   if (format.width == 0 || format.height == 0) {
     throw Error(tiff.path(), page + " has no pixels (" + std::to_string(format.width) + "x" +
-                               std::to_string(format.height) + ")");
+                                 std::to_string(format.height) + ")");
   }
   if (photometric == PHOTOMETRIC_PALETTE) {
     throw Error(tiff.path(), page + " is a palette colour image: convert to grayscale first");
@@ -69,14 +69,14 @@ PageFormat page_format(TiffFile& tiff, std::uint64_t page_index) {
   if (samples_per_pixel != 1 ||
       (photometric != PHOTOMETRIC_MINISBLACK && photometric != PHOTOMETRIC_MINISWHITE)) {
     throw Error(tiff.path(), page + " is a colour or multi-sample image (" +
-                               std::to_string(samples_per_pixel) +
-                               " samples per pixel, photometric " + std::to_string(photometric) +
-                               "): convert to grayscale first");
+                                 std::to_string(samples_per_pixel) +
+                                 " samples per pixel, photometric " + std::to_string(photometric) +
+                                 "): convert to grayscale first");
   }
   if (photometric == PHOTOMETRIC_MINISWHITE) {
     throw Error(tiff.path(), page +
-                               " is min-is-white (0 is white): invert it to min-is-black "
-                               "first, so that higher values are denser");
+                                 " is min-is-white (0 is white): invert it to min-is-black "
+                                 "first, so that higher values are denser");
   }
   if (bits == 8 && sample_format == SAMPLEFORMAT_UINT) {
     format.type = SampleType::u8;
@@ -92,12 +92,12 @@ PageFormat page_format(TiffFile& tiff, std::uint64_t page_index) {
                        : sample_format == SAMPLEFORMAT_IEEEFP ? "float"
                                                               : "other";
     throw Error(tiff.path(), page + " has " + std::to_string(bits) + "-bit " + kind +
-                               " samples: mvox reads 8-bit unsigned, 16-bit unsigned or signed, "
-                               "and 32-bit float");
+                                 " samples: mvox reads 8-bit unsigned, 16-bit unsigned or signed, "
+                                 "and 32-bit float");
   }
   if (!format.tags.codec_configured) {
     throw Error(tiff.path(), page + " uses compression " + std::to_string(compression) +
-                               ", which this libtiff cannot decode");
+                                 ", which this libtiff cannot decode");
   }
   format.compression = compression;
   return format;
@@ -195,17 +195,17 @@ PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint6
     const std::uint64_t tile_samples = std::uint64_t{tile_width} * tile_height;
     if (tile_samples == 0) {
       throw Error(tiff.path(), page + ": invalid tile size " + std::to_string(tile_width) + "x" +
-                                 std::to_string(tile_height));
+                                   std::to_string(tile_height));
     }
     const std::uint64_t image_samples =
         product(round_up_16(format.width), round_up_16(format.height));
     if (tile_samples > std::max(image_samples, kLargestFixedTileSamples)) {
       throw Error(tiff.path(), page + ": its " + std::to_string(tile_width) + "x" +
-                                 std::to_string(tile_height) + " tiles are far larger than the " +
-                                 std::to_string(format.width) + "x" +
-                                 std::to_string(format.height) +
-                                 " image (a tile may hold the image rounded up to multiples of "
-                                 "16, or 4096x4096 samples)");
+                                   std::to_string(tile_height) + " tiles are far larger than the " +
+                                   std::to_string(format.width) + "x" +
+                                   std::to_string(format.height) +
+                                   " image (a tile may hold the image rounded up to multiples of "
+                                   "16, or 4096x4096 samples)");
     }
     buffers.tile = product(tile_samples, bytes_per_sample);
   } else {
@@ -223,8 +223,8 @@ PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint6
     }
     if (offset > file_bytes || file_bytes - offset < bytes) {
       throw Error(tiff.path(), page + ": " + chunk + " ends at byte " +
-                                 std::to_string(offset + bytes) + ", but the file is " +
-                                 std::to_string(file_bytes) + " bytes (truncated)");
+                                   std::to_string(offset + bytes) + ", but the file is " +
+                                   std::to_string(file_bytes) + " bytes (truncated)");
     }
     // A strip holds rows_per_strip rows, the last one what is left; a tile is whole even
     // where it reaches past the image.
@@ -241,8 +241,8 @@ PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint6
     }
     if (!could_hold(codec, bytes, decoded)) {
       throw Error(tiff.path(), page + ": " + chunk + " declares " + std::to_string(decoded) +
-                                 " bytes (" + declared + samples_text + ")" +
-                                 stored_text(codec, bytes));
+                                   " bytes (" + declared + samples_text + ")" +
+                                   stored_text(codec, bytes));
     }
     stored_total = sum(stored_total, bytes);
     decoded_total = sum(decoded_total, decoded);
@@ -252,9 +252,10 @@ PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint6
   // must not add up to a page that the file cannot hold either.
   if (!could_hold(codec, stored_total, decoded_total)) {
     throw Error(tiff.path(), page + " declares " + std::to_string(decoded_total) + " bytes (" +
-                               std::to_string(format.width) + "x" + std::to_string(format.height) +
-                               samples_text + ") in " + std::to_string(count) +
-                               (tiled ? " tiles" : " strips") + stored_text(codec, stored_total));
+                                 std::to_string(format.width) + "x" +
+                                 std::to_string(format.height) + samples_text + ") in " +
+                                 std::to_string(count) + (tiled ? " tiles" : " strips") +
+                                 stored_text(codec, stored_total));
   }
   return buffers;
 }
@@ -348,10 +349,11 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
       if (!same_format(format, first)) {
         const std::string like = file_index == 0 ? "page 1" : "page 1 of " + files_[0];
         throw Error(tiff.path(), page_subject(page) + " is " + std::to_string(format.width) + "x" +
-                                   std::to_string(format.height) + " " + sample_text(format.type) +
-                                   ", expected " + std::to_string(first.width) + "x" +
-                                   std::to_string(first.height) + " " + sample_text(first.type) +
-                                   " like " + like);
+                                     std::to_string(format.height) + " " +
+                                     sample_text(format.type) + ", expected " +
+                                     std::to_string(first.width) + "x" +
+                                     std::to_string(first.height) + " " + sample_text(first.type) +
+                                     " like " + like);
       }
     }
     const PageBuffers buffers = check_page_data(tiff, page, bytes, format);
@@ -367,8 +369,8 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
       // false both at the last page and on a broken directory; only the latter reports an error.
       const std::string error = tiff.take_error();
       if (!error.empty()) {
-        throw Error(tiff.path(), "cannot read the directory of page " + std::to_string(page + 1) +
-                                     error);
+        throw Error(tiff.path(),
+                    "cannot read the directory of page " + std::to_string(page + 1) + error);
       }
       break;
     }
@@ -437,7 +439,8 @@ void TiffStackSource::read_page(ReadBuffer& buffer, const mvox_tiff_page& tags) 
   // When libtiff decodes deflate itself (the floating-point predictor, read_chunk), it must not
   // use libdeflate, which can leave the end of a strip unwritten (tiff_codecs_api.h).
   if (deflate && !tiff.inflate_with_zlib()) {
-    throw Error(tiff.path(), page + ": libtiff cannot decode deflate with zlib" + tiff.take_error());
+    throw Error(tiff.path(),
+                page + ": libtiff cannot decode deflate with zlib" + tiff.take_error());
   }
   const std::size_t bytes_per_sample = sample_bytes(info_.type);
   const std::size_t row_bytes = static_cast<std::size_t>(info_.width) * bytes_per_sample;
@@ -504,8 +507,7 @@ bool TiffStackSource::next_slice(SliceView* slice) {
   // Checked again while streaming: the file may have changed since the constructor looked.
   const PageFormat format = page_format(*open_, page_in_file_);
   if (!same_format(format, PageFormat{info_.width, info_.height, info_.type})) {
-    throw Error(open_->path(),
-                page_subject(page_in_file_) + " changed since the stack was opened");
+    throw Error(open_->path(), page_subject(page_in_file_) + " changed since the stack was opened");
   }
   grow_buffer(buffer_, slice_bytes(info_), open_->path(),
               "the " + std::to_string(info_.width) + "x" + std::to_string(info_.height) + " slice");
