@@ -1,5 +1,6 @@
 #include "write/buffered_writer.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -76,10 +77,41 @@ void BufferedWriter::release() {
   used_ = 0;
 }
 
-void BufferedWriter::set_fd(int fd) {
+void BufferedWriter::set_fd(int fd, bool preallocate) {
   // A background write still uses the old descriptor: it must end before that is closed.
   if (background_) background_->error = wait_for_background();
   fd_ = fd;
+  preallocate_ = preallocate && fd >= 0;
+  handed_ = 0;
+  allocated_ = 0;
+}
+
+void BufferedWriter::hand_to_file(std::uint64_t size) {
+  allocate_to(handed_ + size);
+  handed_ += size;
+}
+
+void BufferedWriter::allocate_to(std::uint64_t end) {
+  if (!preallocate_ || end <= allocated_) return;
+  // At most 16 MiB past the bytes: near a full disk, room taken ahead could fail a write that
+  // would have fitted.
+  constexpr std::uint64_t kSmallestStep = std::uint64_t{1} << 20;
+  constexpr std::uint64_t kLargestStep = std::uint64_t{16} << 20;
+  const std::uint64_t step = std::min(std::max(allocated_, kSmallestStep), kLargestStep);
+  const std::uint64_t target = std::max(end, allocated_ + step);
+  if (::fallocate(fd_, FALLOC_FL_KEEP_SIZE, static_cast<off_t>(allocated_),
+                  static_cast<off_t>(target - allocated_)) != 0) {
+    preallocate_ = false;  // not supported here, or no room: the writes report a full disk
+    return;
+  }
+  allocated_ = target;
+}
+
+int BufferedWriter::release_allocation() {
+  if (allocated_ <= handed_ || fd_ < 0) return 0;
+  if (const int error = wait_for_background()) return error;
+  allocated_ = 0;
+  return ::ftruncate(fd_, static_cast<off_t>(handed_)) == 0 ? 0 : errno;
 }
 
 int BufferedWriter::wait_for_background() {
@@ -91,6 +123,7 @@ int BufferedWriter::wait_for_background() {
 
 int BufferedWriter::hand_off() {
   if (used_ == 0) return wait_for_background();
+  hand_to_file(used_);
   if (!background_ && !background_writes_allowed.load(std::memory_order_relaxed)) {
     const int error = write_fully(fd_, buffer_.get(), used_);
     used_ = 0;
@@ -130,7 +163,10 @@ int BufferedWriter::hand_off() {
 
 int BufferedWriter::flush() {
   int error = wait_for_background();
-  if (used_ > 0 && error == 0) error = write_fully(fd_, buffer_.get(), used_);
+  if (used_ > 0 && error == 0) {
+    hand_to_file(used_);
+    error = write_fully(fd_, buffer_.get(), used_);
+  }
   // Drop the bytes even after an error: the owner reports it and stops writing this file.
   used_ = 0;
   return error;
@@ -141,6 +177,7 @@ int BufferedWriter::write_slow(const void* data, std::size_t size) {
     // A block at least as large as the buffer gains nothing from a copy; written in order,
     // after everything before it.
     if (const int error = flush()) return error;
+    hand_to_file(size);
     if (const int error = write_fully(fd_, data, size)) return error;
     total_ += size;
     return 0;
@@ -155,6 +192,7 @@ int BufferedWriter::write_slow(const void* data, std::size_t size) {
 int BufferedWriter::append_file(int from_fd, std::uint64_t size, bool* short_source) {
   *short_source = false;
   if (const int error = flush()) return error;
+  allocate_to(handed_ + size);  // for the whole copy at once; counted as it is copied
   loff_t from = 0;
   bool kernel_copies = true;
   while (size > 0) {
@@ -188,6 +226,7 @@ int BufferedWriter::append_file(int from_fd, std::uint64_t size, bool* short_sou
     }
     size -= static_cast<std::uint64_t>(got);
     total_ += static_cast<std::uint64_t>(got);
+    handed_ += static_cast<std::uint64_t>(got);
   }
   return 0;
 }

@@ -32,8 +32,19 @@ class BufferedWriter {
   BufferedWriter& operator=(const BufferedWriter&) = delete;
 
   // Waits for a background write in progress first: the descriptor may then be closed.
-  void set_fd(int fd);
+  // `preallocate`: the descriptor is a new regular file, written from its start, whose blocks
+  // are then allocated ahead of the writes (fallocate, keeping the size), 1 MiB, then as much
+  // again as the file holds, up to 16 MiB at a time. On ext4 a write into blocks not yet
+  // allocated reserves them page by page, which cost writing 250 MB three times what writing
+  // into allocated blocks did (0.3 against 0.1 s). Where fallocate fails (another file system,
+  // a full disk) the writes go on without it. release_allocation() frees what is left past the
+  // end.
+  void set_fd(int fd, bool preallocate = false);
   int fd() const { return fd_; }
+
+  // After the last flush: frees the blocks allocated ahead past the end of the file (ftruncate
+  // to its own size). Returns 0 or an errno value.
+  int release_allocation();
 
   // Appends `size` bytes. Returns 0, or the errno of a failed write(2).
   int write(const void* data, std::size_t size) {
@@ -90,6 +101,12 @@ class BufferedWriter {
   int hand_off();
   // Waits until the writing thread is idle; returns the errno of its last write, or 0.
   int wait_for_background();
+  // Counts `size` more bytes as given to the descriptor, first allocating the file's blocks up
+  // to there when preallocating.
+  void hand_to_file(std::uint64_t size);
+  // When preallocating: allocates the file's first `end` bytes, and a step beyond, if they are
+  // not yet.
+  void allocate_to(std::uint64_t end);
 
   std::unique_ptr<char[]> buffer_;
   std::unique_ptr<char[]> spare_;           // the other buffer, once the thread runs
@@ -97,6 +114,9 @@ class BufferedWriter {
   std::size_t used_ = 0;
   std::uint64_t total_ = 0;
   int fd_ = -1;
+  bool preallocate_ = false;
+  std::uint64_t handed_ = 0;     // bytes given to the descriptor (written, or being written)
+  std::uint64_t allocated_ = 0;  // bytes of the file allocated ahead, from its start
 };
 
 // write(2) until every byte is out, retrying after signals and partial writes.

@@ -165,7 +165,7 @@ void OutputFile::create_temporary() {
   const int fd = create_output_temporary(name.data(), subject_, &registration_);
   if (fd < 0) throw Error(subject_, "cannot create file: " + errno_text(errno));
   temp_path_ = name.data();
-  writer_.set_fd(fd);
+  writer_.set_fd(fd, true);  // a new regular file: its blocks are allocated ahead of the writes
   owns_fd_ = true;
   if (::fchmod(fd, default_file_mode()) != 0) {
     const int error = errno;
@@ -230,6 +230,7 @@ void OutputFile::seal() {
   // With `sync`, fsync before the rename: otherwise a power loss shortly after can leave the new
   // name on an empty file. Without it the rename is still atomic for every other process, and
   // a late error (NFS, quotas) is still caught by close() below.
+  if (const int error = writer_.release_allocation()) fail_write(error);
   if (sync_ && ::fsync(writer_.fd()) != 0) fail_write(errno);
   const int fd = writer_.fd();
   writer_.set_fd(-1);

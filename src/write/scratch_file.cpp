@@ -29,7 +29,7 @@ ScratchFile::ScratchFile(const std::string& directory, const std::string& subjec
     throw Error(subject_,
                 "cannot create temporary file in " + directory + ": " + errno_text(errno));
   }
-  writer_.set_fd(fd);
+  writer_.set_fd(fd, true);  // blocks allocated ahead; freed with the file when it is closed
 }
 
 ScratchFile::~ScratchFile() {
