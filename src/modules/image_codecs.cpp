@@ -1,7 +1,6 @@
 #include "modules/image_codecs.h"
 
 #include <exception>
-#include <mutex>
 #include <new>
 
 #include "error.h"
@@ -26,20 +25,17 @@ struct Api {
 // The module's functions, or mvox::Error(subject, why not). Slices are decoded on the reading
 // thread while pictures are written on the main one, so the first use may come from either.
 const Api& api(const std::string& subject) {
-  static std::mutex mutex;
-  static Api loaded;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (loaded.decode != nullptr) return loaded;
-  void* handle = require_module(kImageCodecs, "mvox_image_codecs_api_version",
-                                MVOX_IMAGE_CODECS_API_VERSION, subject);
-  Api functions;
-  resolve_function(handle, "mvox_image_codecs_initialize", &functions.initialize, kImageCodecs,
-                   subject);
-  resolve_function(handle, "mvox_image_decode", &functions.decode, kImageCodecs, subject);
-  resolve_function(handle, "mvox_image_can_write", &functions.can_write, kImageCodecs, subject);
-  resolve_function(handle, "mvox_image_encode", &functions.encode, kImageCodecs, subject);
-  loaded = functions;
-  return loaded;
+  return module_functions<Api>(
+      kImageCodecs, "mvox_image_codecs_api_version", MVOX_IMAGE_CODECS_API_VERSION, subject,
+      [&](void* handle, Api& functions) {
+        auto resolve = [&](const char* symbol, auto** function) {
+          resolve_function(handle, symbol, function, kImageCodecs, subject);
+        };
+        resolve("mvox_image_codecs_initialize", &functions.initialize);
+        resolve("mvox_image_decode", &functions.decode);
+        resolve("mvox_image_can_write", &functions.can_write);
+        resolve("mvox_image_encode", &functions.encode);
+      });
 }
 
 std::string depth_words(int depth) {

@@ -10,6 +10,7 @@
 // nothing that two builds could lay out differently (exceptions included) may cross a dlopen
 // boundary. A module stays loaded until the process ends (no dlclose: Qt and GDCM leave threads
 // and exit handlers pointing into their code).
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,28 @@ void resolve_function(void* handle, const char* symbol, Function** function,
                       const ModuleName& module, const std::string& subject) {
   *function = reinterpret_cast<Function*>(module_symbol(handle, symbol));
   if (*function == nullptr) throw_missing_function(module, symbol, subject);
+}
+
+// The table of `module`'s functions that fill(handle, table) resolves (with resolve_function),
+// loaded with the module at the first call and returned by every later one; or
+// mvox::Error(subject, why not), after which a later call tries again. Safe to call from
+// several threads. Each call site has its own table: the statics belong to this
+// instantiation, and `Fill` is the caller's own lambda.
+template <class Table, class Fill>
+const Table& module_functions(const ModuleName& module, const char* version_symbol, int api_version,
+                              const std::string& subject, Fill fill) {
+  static std::mutex mutex;
+  static Table loaded;
+  static bool ready = false;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (!ready) {
+    void* handle = require_module(module, version_symbol, api_version, subject);
+    Table functions;
+    fill(handle, functions);
+    loaded = functions;
+    ready = true;
+  }
+  return loaded;
 }
 
 // The modules loaded so far, as the files they were loaded from, in the order of loading.

@@ -1,6 +1,5 @@
 #include "read/dicom/dicom_pixel_reader.h"
 
-#include <mutex>
 #include <optional>
 
 #include "error.h"
@@ -22,18 +21,14 @@ struct Api {
 
 // The module's functions, loaded at the first use; or mvox::Error(subject, why not).
 const Api& api(const std::string& subject) {
-  static std::mutex mutex;
-  static Api loaded;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (loaded.decode != nullptr) return loaded;
-  void* handle = require_module(kDicomCodecs, "mvox_dicom_codecs_api_version",
-                                MVOX_DICOM_CODECS_API_VERSION, subject);
-  Api functions;
-  resolve_function(handle, "mvox_dicom_decode_frame", &functions.decode, kDicomCodecs, subject);
-  resolve_function(handle, "mvox_dicom_transfer_syntax_name", &functions.syntax_name, kDicomCodecs,
-                   subject);
-  loaded = functions;
-  return loaded;
+  return module_functions<Api>(kDicomCodecs, "mvox_dicom_codecs_api_version",
+                               MVOX_DICOM_CODECS_API_VERSION, subject,
+                               [&](void* handle, Api& functions) {
+                                 resolve_function(handle, "mvox_dicom_decode_frame",
+                                                  &functions.decode, kDicomCodecs, subject);
+                                 resolve_function(handle, "mvox_dicom_transfer_syntax_name",
+                                                  &functions.syntax_name, kDicomCodecs, subject);
+                               });
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 #include "read/tiff/tiff_file.h"
 
 #include <filesystem>
-#include <mutex>
 
 #include "error.h"
 #include "modules/module_loader.h"
@@ -30,29 +29,24 @@ constexpr ModuleName kTiffCodecs{
 
 // The module's functions, loaded at the first use; or mvox::Error(subject, why not).
 const TiffCodecsApi& api(const std::string& subject) {
-  static std::mutex mutex;
-  static TiffCodecsApi loaded;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (loaded.open != nullptr) return loaded;
-  void* handle = require_module(kTiffCodecs, "mvox_tiff_codecs_api_version",
-                                MVOX_TIFF_CODECS_API_VERSION, subject);
-  TiffCodecsApi f;
-  resolve_function(handle, "mvox_tiff_open", &f.open, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_close", &f.close, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_take_error", &f.take_error, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_read_directory", &f.read_directory, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_page_tags", &f.page_tags, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_chunk_location", &f.chunk_location, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_chunk_at", &f.chunk_at, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_read_chunk", &f.read_chunk, kTiffCodecs, subject);
-  resolve_function(handle, "mvox_tiff_read_stored_chunk", &f.read_stored_chunk, kTiffCodecs,
-                   subject);
-  resolve_function(handle, "mvox_tiff_decode_stored_chunk", &f.decode_stored_chunk, kTiffCodecs,
-                   subject);
-  resolve_function(handle, "mvox_tiff_inflate_with_zlib", &f.inflate_with_zlib, kTiffCodecs,
-                   subject);
-  loaded = f;
-  return loaded;
+  return module_functions<TiffCodecsApi>(
+      kTiffCodecs, "mvox_tiff_codecs_api_version", MVOX_TIFF_CODECS_API_VERSION, subject,
+      [&](void* handle, TiffCodecsApi& f) {
+        auto resolve = [&](const char* symbol, auto** function) {
+          resolve_function(handle, symbol, function, kTiffCodecs, subject);
+        };
+        resolve("mvox_tiff_open", &f.open);
+        resolve("mvox_tiff_close", &f.close);
+        resolve("mvox_tiff_take_error", &f.take_error);
+        resolve("mvox_tiff_read_directory", &f.read_directory);
+        resolve("mvox_tiff_page_tags", &f.page_tags);
+        resolve("mvox_tiff_chunk_location", &f.chunk_location);
+        resolve("mvox_tiff_chunk_at", &f.chunk_at);
+        resolve("mvox_tiff_read_chunk", &f.read_chunk);
+        resolve("mvox_tiff_read_stored_chunk", &f.read_stored_chunk);
+        resolve("mvox_tiff_decode_stored_chunk", &f.decode_stored_chunk);
+        resolve("mvox_tiff_inflate_with_zlib", &f.inflate_with_zlib);
+      });
 }
 
 }  // namespace
