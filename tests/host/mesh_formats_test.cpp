@@ -412,9 +412,10 @@ TEST(WorldTransform, IdentityAxesGiveExactlyOriginPlusSpacingTimesVoxel) {
   }
 }
 
-// place() has a branch-free path for identity axes without normals; it must give the floats
-// and the first vertex beyond float's range that the careful path gives.
-TEST(VertexPlacement, BothPathsPlaceAlikeAndNameTheFirstVertexBeyondFloatsRange) {
+// place() with and without normals gives the same floats and names the same first vertex
+// beyond float's range: a guard for any faster path for the common case (identity axes, no
+// normals), such as the one tried and reverted in 3219ff2.
+TEST(VertexPlacement, WithAndWithoutNormalsPlaceAlikeAndNameTheFirstVertexBeyondFloatsRange) {
   WorldTransform t;
   t.spacing = {1e36, 0.3, 1.0 / 3.0};
   t.origin = {-12.345, 1e-3, 7e6};
