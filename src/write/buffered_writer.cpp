@@ -82,13 +82,7 @@ void BufferedWriter::set_fd(int fd, bool preallocate) {
   if (background_) background_->error = wait_for_background();
   fd_ = fd;
   preallocate_ = preallocate && fd >= 0;
-  handed_ = 0;
   allocated_ = 0;
-}
-
-void BufferedWriter::hand_to_file(std::uint64_t size) {
-  allocate_to(handed_ + size);
-  handed_ += size;
 }
 
 void BufferedWriter::allocate_to(std::uint64_t end) {
@@ -108,10 +102,12 @@ void BufferedWriter::allocate_to(std::uint64_t end) {
 }
 
 int BufferedWriter::release_allocation() {
-  if (allocated_ <= handed_ || fd_ < 0) return 0;
+  // The file holds what was appended and is not in the buffer (all of it, after a flush).
+  const std::uint64_t file_bytes = total_ - used_;
+  if (allocated_ <= file_bytes || fd_ < 0) return 0;
   if (const int error = wait_for_background()) return error;
   allocated_ = 0;
-  return ::ftruncate(fd_, static_cast<off_t>(handed_)) == 0 ? 0 : errno;
+  return ::ftruncate(fd_, static_cast<off_t>(file_bytes)) == 0 ? 0 : errno;
 }
 
 int BufferedWriter::wait_for_background() {
@@ -123,7 +119,7 @@ int BufferedWriter::wait_for_background() {
 
 int BufferedWriter::hand_off() {
   if (used_ == 0) return wait_for_background();
-  hand_to_file(used_);
+  allocate_to(total_);
   if (!background_ && !background_writes_allowed.load(std::memory_order_relaxed)) {
     const int error = write_fully(fd_, buffer_.get(), used_);
     used_ = 0;
@@ -164,7 +160,7 @@ int BufferedWriter::hand_off() {
 int BufferedWriter::flush() {
   int error = wait_for_background();
   if (used_ > 0 && error == 0) {
-    hand_to_file(used_);
+    allocate_to(total_);
     error = write_fully(fd_, buffer_.get(), used_);
   }
   // Drop the bytes even after an error: the owner reports it and stops writing this file.
@@ -177,7 +173,7 @@ int BufferedWriter::write_slow(const void* data, std::size_t size) {
     // A block at least as large as the buffer gains nothing from a copy; written in order,
     // after everything before it.
     if (const int error = flush()) return error;
-    hand_to_file(size);
+    allocate_to(total_ + size);
     if (const int error = write_fully(fd_, data, size)) return error;
     total_ += size;
     return 0;
@@ -192,7 +188,7 @@ int BufferedWriter::write_slow(const void* data, std::size_t size) {
 int BufferedWriter::append_file(int from_fd, std::uint64_t size, bool* short_source) {
   *short_source = false;
   if (const int error = flush()) return error;
-  allocate_to(handed_ + size);  // for the whole copy at once; counted as it is copied
+  allocate_to(total_ + size);  // for the whole copy at once
   loff_t from = 0;
   bool kernel_copies = true;
   while (size > 0) {
@@ -226,7 +222,6 @@ int BufferedWriter::append_file(int from_fd, std::uint64_t size, bool* short_sou
     }
     size -= static_cast<std::uint64_t>(got);
     total_ += static_cast<std::uint64_t>(got);
-    handed_ += static_cast<std::uint64_t>(got);
   }
   return 0;
 }

@@ -101,11 +101,8 @@ class BufferedWriter {
   int hand_off();
   // Waits until the writing thread is idle; returns the errno of its last write, or 0.
   int wait_for_background();
-  // Counts `size` more bytes as given to the descriptor, first allocating the file's blocks up
-  // to there when preallocating.
-  void hand_to_file(std::uint64_t size);
   // When preallocating: allocates the file's first `end` bytes, and a step beyond, if they are
-  // not yet.
+  // not yet. Called before bytes go to the descriptor, with where they will end.
   void allocate_to(std::uint64_t end);
 
   std::unique_ptr<char[]> buffer_;
@@ -115,7 +112,6 @@ class BufferedWriter {
   std::uint64_t total_ = 0;
   int fd_ = -1;
   bool preallocate_ = false;
-  std::uint64_t handed_ = 0;     // bytes given to the descriptor (written, or being written)
   std::uint64_t allocated_ = 0;  // bytes of the file allocated ahead, from its start
 };
 

@@ -27,8 +27,7 @@ struct PageFormat {
   std::uint32_t width = 0;
   std::uint32_t height = 0;
   SampleType type = SampleType::u8;
-  std::uint16_t compression = COMPRESSION_NONE;  // not part of the stack's format
-  mvox_tiff_page tags{};                         // all of the page's tags that mvox reads
+  mvox_tiff_page tags{};  // every tag mvox reads, compression among them (not the stack's format)
 };
 
 std::string sample_text(SampleType type) {
@@ -99,7 +98,6 @@ PageFormat page_format(TiffFile& tiff, std::uint64_t page_index) {
     throw Error(tiff.path(), page + " uses compression " + std::to_string(compression) +
                                  ", which this libtiff cannot decode");
   }
-  format.compression = compression;
   return format;
 }
 
@@ -185,7 +183,7 @@ PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint6
   const std::string samples_text = " " + sample_text(format.type) + " samples";
   const std::uint64_t bytes_per_sample = sample_bytes(format.type);
   const std::uint64_t row_bytes = std::uint64_t{format.width} * bytes_per_sample;
-  const CodecBound codec = codec_bound(format.compression);
+  const CodecBound codec = codec_bound(format.tags.compression);
   PageBuffers buffers;
 
   std::uint32_t tile_width = 0, tile_height = 0, rows_per_strip = format.height;
@@ -358,9 +356,9 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
     }
     const PageBuffers buffers = check_page_data(tiff, page, bytes, format);
     largest_tile_ = std::max(largest_tile_, buffers.tile);
-    if (is_deflate(format.compression)) {
+    if (is_deflate(format.tags.compression)) {
       largest_deflate_chunk_ = std::max(largest_deflate_chunk_, buffers.largest_chunk);
-    } else if (format.compression != COMPRESSION_NONE) {
+    } else if (format.tags.compression != COMPRESSION_NONE) {
       largest_libtiff_chunk_ = std::max(largest_libtiff_chunk_, buffers.largest_chunk);
     }
     ++page;

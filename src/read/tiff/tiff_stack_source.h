@@ -1,8 +1,8 @@
 #pragma once
 // Reads TIFF files as one stack of slices through libtiff, in the TIFF module (tiff_file.h):
 // every page (directory) of every file, files in the given order and pages in file order, one
-// page decoded at a time. A
-// multi-page TIFF is a whole volume in one file; single-page TIFF slices work the same way.
+// page decoded at a time. A multi-page TIFF is a whole volume in one file; single-page TIFF
+// slices work the same way.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
