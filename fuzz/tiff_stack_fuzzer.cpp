@@ -1,8 +1,10 @@
 // Fuzzes one TIFF file through the TIFF stack reader behind `mvox extract`
-// (src/read/tiff/tiff_stack_source.h): mvox's own checks of every directory (page format, strip
-// and tile sizes against the file and against what their codec can decode to, tile sizes
-// against the image), the deflate check, the predictor, and libtiff's decoding in the TIFF
-// module. The module is found through MVOX_MODULE_PATH (scripts/fuzz.sh and the seeds' test set
+// (src/read/tiff/tiff_stack_source.h): mvox's own reading of every directory (classic and
+// BigTIFF, both byte orders; read/tiff/tiff_directory.h) and its checks (page format, strip and
+// tile sizes against the file and against what their codec can decode to, tile sizes against
+// the image), uncompressed and deflate data with the deflate check and the predictor, and, for
+// other codecs, the comparison with libtiff's reading of the directory and libtiff's decoding
+// in the TIFF module. The module is found through MVOX_MODULE_PATH (scripts/fuzz.sh and the seeds' test set
 // it to the build's src/).
 //
 // Input: the file. Properties: a file is refused with one printable line, or it streams exactly

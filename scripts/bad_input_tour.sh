@@ -41,7 +41,8 @@ outputs="-o previous.ply --image previous.png --stats previous.json -q"
 # make_tiff.py FILE KIND [WxH...]: 8-bit TIFFs written with Python's struct only, so no TIFF tool
 # is needed. KIND is sizes (one uncompressed page per WxH), bad-checksum (8 deflate 12x10 pages,
 # the zlib checksum of page 6 wrong), huge-tiles (one 65536x65536 tile for a 12x10 image) or
-# huge-page (30000x30000 declared by a 17-byte deflate strip).
+# huge-page (30000x30000 declared by a 17-byte deflate strip), or loop (3 uncompressed 12x10
+# pages, the last one's link to a next directory leading back to the first).
 cat > "$work/make_tiff.py" << 'EOF_PY'
 import struct, sys, zlib
 def tiff(pages, compression=8):
@@ -69,6 +70,12 @@ if sys.argv[2] == "sizes":
     sizes = [tuple(map(int, size.split("x"))) for size in sys.argv[3:]]
     pages = [(w, h, bytes((x * 7) % 256 for x in range(w * h)), 0) for w, h in sizes]
     open(sys.argv[1], "wb").write(tiff(pages, compression=1))
+    sys.exit(0)
+if sys.argv[2] == "loop":
+    out = tiff([(12, 10, bytes(120), 0)] * 3, compression=1)
+    first = struct.unpack_from("<I", out, 4)[0]
+    struct.pack_into("<I", out, len(out) - 4, first)  # the last page's link
+    open(sys.argv[1], "wb").write(out)
     sys.exit(0)
 kind = sys.argv[2]
 if kind == "bad-checksum":
@@ -495,6 +502,8 @@ tour "TIFF: 65536x65536 tiles for a 12x10 image (146 bytes)" \
   "python3 $work/make_tiff.py tiles.tif huge-tiles" "mvox extract tiles.tif -t 10 $outputs"
 tour "TIFF: a 30000x30000 page in a 140-byte deflate file" \
   "python3 $work/make_tiff.py page.tif huge-page" "mvox extract page.tif -t 10 $outputs"
+tour "TIFF: directories that loop back to the first page" \
+  "python3 $work/make_tiff.py loop.tif loop" "mvox extract loop.tif -t 10 $outputs"
 # JPEG slices: pictures of the sphere that mvox itself writes with OpenCV.
 jpegs="mvox extract stack -t 128 -o sphere.ply --image sphere.jpg --image-size 64x48 -q; mkdir jpegs; cp sphere.jpg jpegs/slice_1.jpg; cp sphere.jpg jpegs/slice_2.jpg"
 tour "JPEG slice cut mid-scan and closed with FF D9" \

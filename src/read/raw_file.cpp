@@ -14,7 +14,7 @@
 
 namespace mvox {
 
-RawFile::RawFile(const std::string& path) : path_(path) {
+RawFile::RawFile(const std::string& path, const char* kind) : path_(path) {
   descriptor_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (descriptor_ < 0) throw Error(path, "cannot open: " + errno_text(errno));
   struct stat status {};
@@ -25,7 +25,7 @@ RawFile::RawFile(const std::string& path) : path_(path) {
   }
   if (S_ISDIR(status.st_mode)) {
     ::close(descriptor_);
-    throw Error(path, "is a directory, expected a raw sample file");
+    throw Error(path, std::string("is a directory, expected ") + kind);
   }
   is_stream_ = !S_ISREG(status.st_mode);
   size_bytes_ = is_stream_ ? 0 : static_cast<std::uint64_t>(status.st_size);

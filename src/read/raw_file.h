@@ -17,7 +17,8 @@ namespace mvox {
 // expect_end() checks at the end that nothing follows. Opening a FIFO waits for its writer.
 class RawFile {
  public:
-  explicit RawFile(const std::string& path);
+  // `kind` names what the file should be, for the refusal of a directory.
+  explicit RawFile(const std::string& path, const char* kind = "a raw sample file");
   ~RawFile();
   RawFile(const RawFile&) = delete;
   RawFile& operator=(const RawFile&) = delete;

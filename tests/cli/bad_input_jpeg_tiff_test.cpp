@@ -1,6 +1,7 @@
 // Bad JPEG and TIFF data through the command line (the contract: support/bad_input.h): JPEG
-// scans cut short or with junk restart markers, a deflate strip failing its checksum, and TIFF
-// headers declaring far more than their files hold, refused at a small peak memory.
+// scans cut short or with junk restart markers, a deflate strip failing its checksum, TIFF
+// directories that loop, and TIFF headers declaring far more than their files hold, refused at a
+// small peak memory.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -78,6 +79,18 @@ TEST_F(BadInput, TiffDeflateStripFailingItsChecksum) {
   write_bytes(dir_ / "stack.tif", std::string(tiff.begin(), tiff.end()));
   expect_refused("extract stack.tif -t 128" + kOutputs, "stack.tif",
                  "page 6: strip 0: corrupt deflate data (zlib: incorrect data check)");
+}
+
+TEST_F(BadInput, TiffWhoseDirectoriesLoop) {
+  // Three pages, the third's link to a next directory leading back to the first: read forever
+  // by a reader that does not keep the directories it has seen.
+  const test::TiffPageBytes page{12, 10, 8, 1, 0, 0, 0, {std::vector<unsigned char>(120, 200)}};
+  std::vector<unsigned char> tiff = test::tiff_file_bytes({page, page, page});
+  test::put_tiff_u32(tiff, test::tiff_next_link(tiff, 2), test::tiff_directory_offset(tiff, 0));
+  write_bytes(dir_ / "loop.tif", std::string(tiff.begin(), tiff.end()));
+  expect_refused("extract loop.tif -t 128" + kOutputs, "loop.tif",
+                 "cannot read the directory of page 4: the directories loop back to an earlier "
+                 "one");
 }
 
 // Lying headers must cost what their files hold, not what they declare. The whole process,

@@ -1,6 +1,7 @@
 // A run loads the heavy libraries its input or outputs need, and no other: OpenCV's image codecs,
-// GDCM and libtiff live in modules (modules/module_loader.h) that raw, NRRD, MetaImage and PNG
-// runs, --help, phantom and demo never load, and a TIFF run loads libtiff's alone. Checked the way
+// GDCM and libtiff live in modules (modules/module_loader.h) that raw, NRRD, MetaImage, PNG,
+// uncompressed and deflate TIFF runs, --help, phantom and demo never load, and a TIFF run of
+// another compression loads libtiff's alone. Checked the way
 // the dynamic loader itself reports what it maps (LD_DEBUG=files), and by runs with no module
 // directory at all; a run that needs a missing module fails in one line that names it and how to
 // install what it needs.
@@ -63,10 +64,11 @@ void expect_lean(const std::string& arguments, const ScratchDirectory& dir, bool
   EXPECT_EQ(loaded.tiff, tiff) << (tiff ? "libtiff was not loaded" : "libtiff was loaded");
 }
 
-void write_tiff(const std::string& path, int pages) {
+void write_tiff(const std::string& path, int pages, std::uint16_t compression = COMPRESSION_NONE) {
   TIFF* tiff = TIFFOpen(path.c_str(), "w");
   ASSERT_NE(tiff, nullptr);
   for (int page = 0; page < pages; ++page) {
+    TIFFSetField(tiff, TIFFTAG_COMPRESSION, compression);
     TIFFSetField(tiff, TIFFTAG_IMAGEWIDTH, 8);
     TIFFSetField(tiff, TIFFTAG_IMAGELENGTH, 6);
     TIFFSetField(tiff, TIFFTAG_BITSPERSAMPLE, 8);
@@ -120,7 +122,7 @@ TEST_F(LeanProcess, HelpPhantomAndDemoLoadNoModule) {
   expect_lean("demo --size 32 -o demo.ply --image demo.png -q", dir_);
 }
 
-TEST_F(LeanProcess, RawNrrdMetaImageAndPngRunsLoadNoModuleAndTiffLoadsLibtiffOnly) {
+TEST_F(LeanProcess, RawNrrdMetaImageAndPngRunsLoadNoModuleAndTiffLoadsLibtiffOnlyToDecode) {
   std::vector<unsigned char> volume(8 * 6 * 4, 0);
   for (std::size_t i = 48; i < 144; ++i) volume[i] = (i % 8 > 2) ? 200 : 0;
   test::write_bytes(dir_.path() / "v.raw", volume);
@@ -134,6 +136,8 @@ TEST_F(LeanProcess, RawNrrdMetaImageAndPngRunsLoadNoModuleAndTiffLoadsLibtiffOnl
       "ElementDataFile = v.raw\n";
   test::write_bytes(dir_.path() / "v.mhd", std::vector<unsigned char>(mhd.begin(), mhd.end()));
   write_tiff((dir_.path() / "v.tif").string(), 4);
+  write_tiff((dir_.path() / "deflate.tif").string(), 4, COMPRESSION_ADOBE_DEFLATE);
+  write_tiff((dir_.path() / "lzw.tif").string(), 4, COMPRESSION_LZW);
   ASSERT_EQ(run_mvox("phantom sphere -o stack --size 16x16x8 -q", dir_.path()).exit_code, 0);
   ASSERT_EQ(run_mvox("phantom blobs -o stack16 --size 16x12x6 --bits 16 -q", dir_.path()).exit_code,
             0);
@@ -142,7 +146,10 @@ TEST_F(LeanProcess, RawNrrdMetaImageAndPngRunsLoadNoModuleAndTiffLoadsLibtiffOnl
   expect_lean("extract v.raw --raw 8x6x4:u8" + outputs, dir_);
   expect_lean("extract v.nrrd" + outputs, dir_);
   expect_lean("extract v.mhd" + outputs, dir_);
-  expect_lean("extract v.tif" + outputs, dir_, true);
+  // mvox reads TIFF directories, uncompressed data and deflate data itself.
+  expect_lean("extract v.tif" + outputs, dir_);
+  expect_lean("extract deflate.tif" + outputs, dir_);
+  expect_lean("extract lzw.tif" + outputs, dir_, true);
   expect_lean("extract stack" + outputs + " --frames frames --every 2", dir_);
   expect_lean("extract stack16 -t 1000 -o m16.obj --image p16.png -q", dir_);
   expect_lean("render m.ply -o r.png", dir_);
@@ -180,7 +187,7 @@ TEST_F(LeanProcess, FormatsMvoxDoesNotDecodeLoadOpenCv) {
 TEST_F(LeanProcess, AMissingModuleIsOneLineNamingItAndHowToInstall) {
   const std::string nowhere = "MVOX_MODULE_PATH=/nonexistent/mvox-modules";
   write_dicom_series(dir_);
-  write_tiff((dir_.path() / "v.tif").string(), 2);
+  write_tiff((dir_.path() / "v.tif").string(), 2, COMPRESSION_LZW);
   test::CommandResult result = run_mvox("extract v.tif -t 100 -o t.ply -q", dir_.path(), nowhere);
   test::expect_one_line_error(result, "v.tif");
   EXPECT_NE(result.output.find("TIFF module (libtiff) libmvox_tiff_codecs.so"), std::string::npos)

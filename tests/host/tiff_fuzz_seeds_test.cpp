@@ -1,6 +1,8 @@
 // The TIFF fuzzer's seeds (fuzz/corpus/tiff_stack_fuzzer/): a small stack of every layout the
 // reader's tests write (striped, one row a strip with deflate, tiled, tiled with LZW), in 8 and
-// 16 bits, plus deflate with the horizontal predictor. MVOX_WRITE_FUZZ_SEEDS=DIR writes them
+// 16 bits, plus deflate with the horizontal and floating-point predictors, a big-endian BigTIFF
+// and a big-endian file whose bits are stored least significant first (mvox's own directory
+// reading and byte and bit orders). MVOX_WRITE_FUZZ_SEEDS=DIR writes them
 // into DIR; the test checks that each committed seed still reads as the samples it was made of.
 #include <tiffio.h>
 
@@ -32,12 +34,12 @@ constexpr std::uint32_t kSeedWidth = 21, kSeedHeight = 18, kSeedDepth = 2;
 // committed copy of it reads back as those samples.
 template <typename T>
 void check_seed(const std::string& name, const Layout& layout,
-                const std::function<void(TIFF*)>& extra = {}) {
+                const std::function<void(TIFF*)>& extra = {}, const char* mode = "w") {
   SCOPED_TRACE(name);
   const std::vector<T> samples = test::phantom_samples<T>(kSeedWidth, kSeedHeight, kSeedDepth);
   if (const char* write_to = std::getenv("MVOX_WRITE_FUZZ_SEEDS")) {
     write_stack((fs::path(write_to) / name).string(), samples, kSeedWidth, kSeedHeight, 0,
-                kSeedDepth, layout, extra);
+                kSeedDepth, layout, extra, mode);
   }
   const fs::path committed = fs::path(MVOX_FUZZ_CORPUS) / "tiff_stack_fuzzer" / name;
   ASSERT_TRUE(fs::exists(committed)) << committed << " is missing";
@@ -63,6 +65,11 @@ TEST(TiffFuzzSeeds, EveryCommittedSeedReadsAsTheSamplesItWasMadeOf) {
   check_seed<float>("f32_deflate_float_predictor.tif", deflate, [](TIFF* tiff) {
     TIFFSetField(tiff, TIFFTAG_PREDICTOR, PREDICTOR_FLOATINGPOINT);
   });
+  check_seed<std::uint16_t>("u16_bigtiff_big_endian_tiled.tif", test::tiff_stack_files::kLayouts[2],
+                            {}, "w8b");
+  check_seed<std::uint16_t>(
+      "u16_big_endian_fill_order_2.tif", test::tiff_stack_files::kLayouts[0],
+      [](TIFF* tiff) { TIFFSetField(tiff, TIFFTAG_FILLORDER, FILLORDER_LSB2MSB); }, "wb");
 }
 
 }  // namespace

@@ -132,7 +132,8 @@ TEST(TiffStack, BuffersComeWithTheFirstSliceAndWorkingBytesBoundThem) {
               test::tiff_file_bytes(
                   {{0x80000000u, 0x40000000u, 16, COMPRESSION_ZSTD, 0, 0, 0, {filled(64, 1)}}}));
   TiffStackSource source({dir / "zstd.tif"});
-  EXPECT_EQ(source.working_bytes(), (std::uint64_t{1} << 62) + 1024);
+  // The slice, libtiff's buffer for the stored strip, and the strip's place (offset and count).
+  EXPECT_EQ(source.working_bytes(), (std::uint64_t{1} << 62) + 1024 + 16);
   SliceView slice;
   EXPECT_EQ(error_of([&] { source.next_slice(&slice); }),
             dir /
@@ -145,13 +146,15 @@ TEST(TiffStack, WorkingBytesAddUpTheBuffersOfTheLargestPage) {
       test::phantom_samples<std::uint16_t>(kWidth, kHeight, kDepth);
   const std::uint64_t slice = kWidth * kHeight * 2;
   ScratchDirectory dir;
-  // The largest stored strip or tile, from libtiff.
-  const auto largest_chunk = [](const std::string& path) {
+  // The largest stored strip or tile, and the most strips or tiles of a page, from libtiff.
+  const auto largest_chunk = [](const std::string& path, std::uint64_t* most_chunks) {
     std::uint64_t largest = 0;
+    *most_chunks = 0;
     TIFF* tiff = TIFFOpen(path.c_str(), "r");
     do {
       const std::uint32_t count =
           TIFFIsTiled(tiff) ? TIFFNumberOfTiles(tiff) : TIFFNumberOfStrips(tiff);
+      *most_chunks = std::max<std::uint64_t>(*most_chunks, count);
       for (std::uint32_t i = 0; i < count; ++i)
         largest = std::max(largest, TIFFGetStrileByteCount(tiff, i));
     } while (TIFFReadDirectory(tiff));
@@ -162,8 +165,10 @@ TEST(TiffStack, WorkingBytesAddUpTheBuffersOfTheLargestPage) {
     SCOPED_TRACE(layout.name);
     write_stack(dir / "stack.tif", samples, kWidth, kHeight, 0, kDepth, layout);
     TiffStackSource source({dir / "stack.tif"});
-    std::uint64_t expected = slice + (layout.tiled ? 16 * 16 * 2 : 0);
-    const std::uint64_t chunk = largest_chunk(dir / "stack.tif");
+    std::uint64_t most_chunks = 0;
+    const std::uint64_t chunk = largest_chunk(dir / "stack.tif", &most_chunks);
+    // The slice, a tile, and the places (offset and byte count) of the page's strips or tiles.
+    std::uint64_t expected = slice + (layout.tiled ? 16 * 16 * 2 : 0) + 16 * most_chunks;
     if (layout.compression == COMPRESSION_ADOBE_DEFLATE)
       expected += chunk + ZlibStreamCheck::kWorkingBytes;
     else if (layout.compression != COMPRESSION_NONE)

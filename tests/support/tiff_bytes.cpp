@@ -105,4 +105,51 @@ std::vector<unsigned char> zlib_compressed(const std::vector<unsigned char>& byt
   return deflate_bytes(bytes, false);
 }
 
+namespace {
+
+std::uint32_t u16_at(const std::vector<unsigned char>& bytes, std::size_t at) {
+  return bytes.at(at) | std::uint32_t{bytes.at(at + 1)} << 8;
+}
+
+std::uint32_t u32_at(const std::vector<unsigned char>& bytes, std::size_t at) {
+  return u16_at(bytes, at) | u16_at(bytes, at + 2) << 16;
+}
+
+}  // namespace
+
+void put_tiff_u16(std::vector<unsigned char>& bytes, std::size_t at, std::uint32_t value) {
+  put_u16(bytes, at, value);
+}
+
+void put_tiff_u32(std::vector<unsigned char>& bytes, std::size_t at, std::uint32_t value) {
+  put_u32(bytes, at, value);
+}
+
+std::uint32_t tiff_directory_offset(const std::vector<unsigned char>& bytes, int page) {
+  std::uint32_t offset = u32_at(bytes, 4);
+  for (int i = 0; i < page; ++i) offset = u32_at(bytes, offset + 2 + 12 * u16_at(bytes, offset));
+  return offset;
+}
+
+std::size_t tiff_next_link(const std::vector<unsigned char>& bytes, int page) {
+  const std::uint32_t offset = tiff_directory_offset(bytes, page);
+  return offset + 2 + 12 * u16_at(bytes, offset);
+}
+
+std::size_t tiff_entry_offset(const std::vector<unsigned char>& bytes, int page,
+                              std::uint16_t tag) {
+  const std::uint32_t offset = tiff_directory_offset(bytes, page);
+  for (std::uint32_t i = 0; i < u16_at(bytes, offset); ++i) {
+    const std::size_t entry = offset + 2 + 12 * i;
+    if (u16_at(bytes, entry) == tag) return entry;
+  }
+  ADD_FAILURE() << "no tag " << tag << " in directory " << page;
+  return 0;
+}
+
+void rename_tiff_tag(std::vector<unsigned char>& bytes, int page, std::uint16_t tag,
+                     std::uint16_t new_tag) {
+  put_u16(bytes, tiff_entry_offset(bytes, page, tag), new_tag);
+}
+
 }  // namespace mvox::test

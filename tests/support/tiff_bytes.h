@@ -2,6 +2,7 @@
 // Test support: TIFF files written byte by byte (little-endian classic TIFF), for headers that
 // libtiff's writer would not produce: tiles far larger than the image, a page far larger than
 // its data, strips whose stored bytes are damaged.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,18 @@ struct TiffPageBytes {
 
 // The bytes of a TIFF file holding `pages`, each chunk stored as given.
 std::vector<unsigned char> tiff_file_bytes(const std::vector<TiffPageBytes>& pages);
+
+// Editing such files in place, to break them in one way: little-endian 16- and 32-bit values at
+// byte `at`, the offset of page `page`'s directory (0-based), the place of its link to the next
+// directory, the place of its entry for `tag` (a failed test when absent), and that entry given
+// the tag number `new_tag` (which, for a number mvox does not know, removes the tag).
+void put_tiff_u16(std::vector<unsigned char>& bytes, std::size_t at, std::uint32_t value);
+void put_tiff_u32(std::vector<unsigned char>& bytes, std::size_t at, std::uint32_t value);
+std::uint32_t tiff_directory_offset(const std::vector<unsigned char>& bytes, int page);
+std::size_t tiff_next_link(const std::vector<unsigned char>& bytes, int page);
+std::size_t tiff_entry_offset(const std::vector<unsigned char>& bytes, int page, std::uint16_t tag);
+void rename_tiff_tag(std::vector<unsigned char>& bytes, int page, std::uint16_t tag,
+                     std::uint16_t new_tag);
 
 // `bytes` as one zlib stream (TIFF's deflate compression).
 std::vector<unsigned char> zlib_compressed(const std::vector<unsigned char>& bytes);

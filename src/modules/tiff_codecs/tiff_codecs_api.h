@@ -3,9 +3,11 @@
 // Debian's libtiff brings seven codec libraries with it (WebP, Zstandard, LZMA, LERC, JBIG,
 // libdeflate, JPEG), whose loading and relocation cost every mvox process about a millisecond,
 // half its start-up beyond a hello-world's. So the TIFF reader (read/tiff/tiff_stack_source.h)
-// keeps every decision (what a page may be, what its sizes may claim, the deflate check) and
-// asks this module, loaded at its first TIFF file, only for what libtiff does: walk the
-// directories, read their tags, and read or decode strips and tiles.
+// reads the directories, uncompressed data and deflate data itself, keeps every decision (what
+// a page may be, what its sizes may claim, the deflate check), and loads this module only for
+// pages whose data only libtiff decodes (LZW, PackBits, JPEG, ..., and deflate with the
+// floating-point predictor). The module walks its own copy of the directories, whose tags the
+// reader compares with its own before trusting libtiff's decoding.
 // The tag values exchanged (compression, photometric, sample format, ...) are TIFF's own
 // numbers, as <tiff.h> names them. See modules/module_loader.h for why C.
 // A handle is used by one thread at a time; different handles may be used on different threads.
@@ -23,15 +25,16 @@ extern "C" {
 #endif
 
 // Bumped whenever a signature or a contract below changes.
-#define MVOX_TIFF_CODECS_API_VERSION 1
+#define MVOX_TIFF_CODECS_API_VERSION 2
 
 // An open TIFF file with its current directory (page), and the first error libtiff reported
 // on it since the last mvox_tiff_take_error(). libtiff's warnings are dropped (unknown tags are
 // common and harmless) and nothing is printed on standard error.
 typedef struct mvox_tiff mvox_tiff;
 
-// The tags of the current directory that the reader looks at. Absent tags read as TIFF's
-// defaults, except photometric, whose absence reads as min-is-black (as most readers do).
+// The tags of the current directory, as libtiff reads them, that the reader compares with its
+// own reading (tiff_directory.h). Absent tags read as TIFF's defaults, except photometric,
+// whose absence reads as min-is-black (as most readers do).
 typedef struct {
   uint32_t width;
   uint32_t height;
@@ -42,22 +45,19 @@ typedef struct {
   uint16_t compression;
   uint16_t fill_order;
   uint16_t predictor;
-  int codec_configured;     // this libtiff can decode `compression`
   int byte_swapped;         // the file's byte order is not the machine's
   int tiled;                // tiles, not strips
   uint32_t tile_width;      // 0 when striped or absent
   uint32_t tile_height;     // 0 when striped or absent
-  uint64_t tile_bytes;      // libtiff's size of a decoded tile (TIFFTileSize64); 0 when striped
   uint32_t rows_per_strip;  // as stored (defaulted); striped pages
   uint32_t chunks;          // strips or tiles
-  // ImageDescription, or NULL; valid until the directory changes or the file is closed.
-  const char* description;
-  float x_resolution;  // pixels per unit; 0 when absent
-  float y_resolution;
 } mvox_tiff_page;
 
 // Returns MVOX_TIFF_CODECS_API_VERSION as the module was built.
 MVOX_TIFF_CODECS_EXPORT int mvox_tiff_codecs_api_version(void);
+
+// 1 when this libtiff decodes TIFF's Compression value `compression`, 0 when not.
+MVOX_TIFF_CODECS_EXPORT int mvox_tiff_codec_configured(uint16_t compression);
 
 // Opens `path` for reading with read(2), not a memory map (so that streaming a large file does
 // not grow the process's resident memory with pages already used), and reads its first
@@ -83,16 +83,9 @@ MVOX_TIFF_CODECS_EXPORT void mvox_tiff_page_tags(mvox_tiff* tiff, mvox_tiff_page
 MVOX_TIFF_CODECS_EXPORT int mvox_tiff_chunk_location(mvox_tiff* tiff, uint32_t index,
                                                      uint64_t* offset, uint64_t* bytes);
 
-// The strip holding row `y`, or the tile holding sample (x, y), of the current page.
-MVOX_TIFF_CODECS_EXPORT uint32_t mvox_tiff_chunk_at(mvox_tiff* tiff, uint32_t x, uint32_t y);
-
 // Decodes strip or tile `index` into out[0, out_bytes): the decoded byte count, or -1.
 MVOX_TIFF_CODECS_EXPORT int64_t mvox_tiff_read_chunk(mvox_tiff* tiff, uint32_t index, void* out,
                                                      int64_t out_bytes);
-
-// Reads the stored bytes of strip or tile `index` into out[0, out_bytes): the count read, or -1.
-MVOX_TIFF_CODECS_EXPORT int64_t mvox_tiff_read_stored_chunk(mvox_tiff* tiff, uint32_t index,
-                                                            void* out, int64_t out_bytes);
 
 // Decodes the stored bytes of strip or tile `index`, given in `stored` (bits in stored order),
 // into out[0, out_bytes) as mvox_tiff_read_chunk would: 1 when decoded, 0 when not.

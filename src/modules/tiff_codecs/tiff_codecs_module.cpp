@@ -47,6 +47,10 @@ extern "C" {
 
 int mvox_tiff_codecs_api_version(void) { return MVOX_TIFF_CODECS_API_VERSION; }
 
+int mvox_tiff_codec_configured(uint16_t compression) {
+  return TIFFIsCODECConfigured(compression) ? 1 : 0;
+}
+
 mvox_tiff* mvox_tiff_open(const char* path, char* error, size_t error_bytes) {
   copy_text("", error, error_bytes);
   auto* tiff = new (std::nothrow) mvox_tiff;
@@ -100,25 +104,17 @@ void mvox_tiff_page_tags(mvox_tiff* tiff, mvox_tiff_page* page) {
   TIFFGetField(t, TIFFTAG_PHOTOMETRIC, &page->photometric);
   TIFFGetFieldDefaulted(t, TIFFTAG_FILLORDER, &page->fill_order);
   TIFFGetFieldDefaulted(t, TIFFTAG_PREDICTOR, &page->predictor);
-  page->codec_configured = TIFFIsCODECConfigured(page->compression);
   page->byte_swapped = TIFFIsByteSwapped(t) != 0;
   page->tiled = TIFFIsTiled(t) != 0;
   if (page->tiled) {
     TIFFGetField(t, TIFFTAG_TILEWIDTH, &page->tile_width);
     TIFFGetField(t, TIFFTAG_TILELENGTH, &page->tile_height);
-    page->tile_bytes = TIFFTileSize64(t);
     page->chunks = TIFFNumberOfTiles(t);
   } else {
     page->rows_per_strip = page->height;
     TIFFGetFieldDefaulted(t, TIFFTAG_ROWSPERSTRIP, &page->rows_per_strip);
     page->chunks = TIFFNumberOfStrips(t);
   }
-  const char* description = nullptr;
-  if (TIFFGetField(t, TIFFTAG_IMAGEDESCRIPTION, &description)) page->description = description;
-  float resolution = 0;
-  if (TIFFGetField(t, TIFFTAG_XRESOLUTION, &resolution)) page->x_resolution = resolution;
-  resolution = 0;
-  if (TIFFGetField(t, TIFFTAG_YRESOLUTION, &resolution)) page->y_resolution = resolution;
 }
 
 int mvox_tiff_chunk_location(mvox_tiff* tiff, uint32_t index, uint64_t* offset, uint64_t* bytes) {
@@ -129,21 +125,10 @@ int mvox_tiff_chunk_location(mvox_tiff* tiff, uint32_t index, uint64_t* offset, 
   return error ? 0 : 1;
 }
 
-uint32_t mvox_tiff_chunk_at(mvox_tiff* tiff, uint32_t x, uint32_t y) {
-  return TIFFIsTiled(tiff->handle) ? TIFFComputeTile(tiff->handle, x, y, 0, 0)
-                                   : TIFFComputeStrip(tiff->handle, y, 0);
-}
-
 int64_t mvox_tiff_read_chunk(mvox_tiff* tiff, uint32_t index, void* out, int64_t out_bytes) {
   TIFF* t = tiff->handle;
   return TIFFIsTiled(t) ? TIFFReadEncodedTile(t, index, out, static_cast<tmsize_t>(out_bytes))
                         : TIFFReadEncodedStrip(t, index, out, static_cast<tmsize_t>(out_bytes));
-}
-
-int64_t mvox_tiff_read_stored_chunk(mvox_tiff* tiff, uint32_t index, void* out, int64_t out_bytes) {
-  TIFF* t = tiff->handle;
-  return TIFFIsTiled(t) ? TIFFReadRawTile(t, index, out, static_cast<tmsize_t>(out_bytes))
-                        : TIFFReadRawStrip(t, index, out, static_cast<tmsize_t>(out_bytes));
 }
 
 int mvox_tiff_decode_stored_chunk(mvox_tiff* tiff, uint32_t index, void* stored,

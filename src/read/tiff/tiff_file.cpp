@@ -8,15 +8,14 @@
 namespace mvox {
 
 struct TiffCodecsApi {
+  decltype(&mvox_tiff_codec_configured) codec_configured = nullptr;
   decltype(&mvox_tiff_open) open = nullptr;
   decltype(&mvox_tiff_close) close = nullptr;
   decltype(&mvox_tiff_take_error) take_error = nullptr;
   decltype(&mvox_tiff_read_directory) read_directory = nullptr;
   decltype(&mvox_tiff_page_tags) page_tags = nullptr;
   decltype(&mvox_tiff_chunk_location) chunk_location = nullptr;
-  decltype(&mvox_tiff_chunk_at) chunk_at = nullptr;
   decltype(&mvox_tiff_read_chunk) read_chunk = nullptr;
-  decltype(&mvox_tiff_read_stored_chunk) read_stored_chunk = nullptr;
   decltype(&mvox_tiff_decode_stored_chunk) decode_stored_chunk = nullptr;
   decltype(&mvox_tiff_inflate_with_zlib) inflate_with_zlib = nullptr;
 };
@@ -35,15 +34,14 @@ const TiffCodecsApi& api(const std::string& subject) {
         auto resolve = [&](const char* symbol, auto** function) {
           resolve_function(handle, symbol, function, kTiffCodecs, subject);
         };
+        resolve("mvox_tiff_codec_configured", &f.codec_configured);
         resolve("mvox_tiff_open", &f.open);
         resolve("mvox_tiff_close", &f.close);
         resolve("mvox_tiff_take_error", &f.take_error);
         resolve("mvox_tiff_read_directory", &f.read_directory);
         resolve("mvox_tiff_page_tags", &f.page_tags);
         resolve("mvox_tiff_chunk_location", &f.chunk_location);
-        resolve("mvox_tiff_chunk_at", &f.chunk_at);
         resolve("mvox_tiff_read_chunk", &f.read_chunk);
-        resolve("mvox_tiff_read_stored_chunk", &f.read_stored_chunk);
         resolve("mvox_tiff_decode_stored_chunk", &f.decode_stored_chunk);
         resolve("mvox_tiff_inflate_with_zlib", &f.inflate_with_zlib);
       });
@@ -58,6 +56,10 @@ std::string load_tiff_module() {
   } catch (const Error& error) {
     return error.what();
   }
+}
+
+bool tiff_codec_configured(std::uint16_t compression, const std::string& subject) {
+  return api(subject).codec_configured(compression) != 0;
 }
 
 TiffFile::TiffFile(const std::string& path) : path_(path), api_(nullptr) {
@@ -94,17 +96,8 @@ bool TiffFile::chunk_location(std::uint32_t index, std::uint64_t* offset, std::u
   return api_->chunk_location(handle_, index, offset, bytes) != 0;
 }
 
-std::uint32_t TiffFile::chunk_at(std::uint32_t x, std::uint32_t y) {
-  return api_->chunk_at(handle_, x, y);
-}
-
 bool TiffFile::read_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes) {
   return api_->read_chunk(handle_, index, out, static_cast<std::int64_t>(bytes)) ==
-         static_cast<std::int64_t>(bytes);
-}
-
-bool TiffFile::read_stored_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes) {
-  return api_->read_stored_chunk(handle_, index, out, static_cast<std::int64_t>(bytes)) ==
          static_cast<std::int64_t>(bytes);
 }
 

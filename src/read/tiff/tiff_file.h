@@ -1,7 +1,8 @@
 #pragma once
 // One open TIFF file, read through the TIFF module (modules/tiff_codecs/tiff_codecs_api.h),
 // which is loaded at the first file opened: libtiff and its codec libraries cost every process
-// that links them about a millisecond of start-up, so only runs that read TIFF load them.
+// that links them about a millisecond of start-up, so only runs that decode TIFF data only
+// libtiff decodes load them (tiff_stack_source.h).
 // A TiffFile is used by one thread at a time.
 #include <cstdint>
 #include <string>
@@ -34,12 +35,8 @@ class TiffFile {
   mvox_tiff_page tags();
   // The stored place of strip or tile `index` of the current page; false when unknown.
   bool chunk_location(std::uint32_t index, std::uint64_t* offset, std::uint64_t* bytes);
-  // The strip holding row y, or the tile holding sample (x, y).
-  std::uint32_t chunk_at(std::uint32_t x, std::uint32_t y);
   // Strip or tile `index` decoded into out[0, bytes): true when it filled exactly that.
   bool read_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes);
-  // Its stored bytes into out[0, bytes): true when all were read.
-  bool read_stored_chunk(std::uint32_t index, unsigned char* out, std::uint64_t bytes);
   // Decodes stored bytes (in stored bit order) as read_chunk would.
   bool decode_stored_chunk(std::uint32_t index, unsigned char* stored, std::uint64_t stored_bytes,
                            unsigned char* out, std::uint64_t out_bytes);
@@ -55,5 +52,9 @@ class TiffFile {
 // Loads the TIFF module now, if it is not loaded yet: "" when it is, otherwise the one-line
 // reason. For programs that must not take a missing module for a refused file (the fuzzer).
 std::string load_tiff_module();
+
+// True when the TIFF module's libtiff decodes TIFF's Compression value `compression`. Loads the
+// module; throws mvox::Error(subject, ...) as TiffFile does when it cannot.
+bool tiff_codec_configured(std::uint16_t compression, const std::string& subject);
 
 }  // namespace mvox

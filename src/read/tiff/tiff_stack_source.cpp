@@ -1,6 +1,5 @@
 #include "read/tiff/tiff_stack_source.h"
 
-#include <sys/stat.h>
 #include <tiff.h>  // TIFF's tag values, by name; libtiff itself is the TIFF module's (tiff_file.h)
 
 #include <algorithm>
@@ -15,6 +14,7 @@
 #include "error.h"
 #include "read/compression_bounds.h"
 #include "read/header_text.h"
+#include "read/tiff/tiff_directory.h"
 #include "read/tiff/tiff_file.h"
 #include "read/tiff/tiff_predictor.h"
 
@@ -27,8 +27,19 @@ struct PageFormat {
   std::uint32_t width = 0;
   std::uint32_t height = 0;
   SampleType type = SampleType::u8;
-  mvox_tiff_page tags{};  // every tag mvox reads, compression among them (not the stack's format)
 };
+
+bool is_deflate(std::uint16_t compression) {
+  return compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE;
+}
+
+// Uncompressed data are read by mvox, and deflate data inflated and finished by it unless
+// they use a predictor tiff_predictor.h does not undo; only libtiff decodes the others.
+bool decoded_by_libtiff(const TiffDirectory& page) {
+  if (page.compression == COMPRESSION_NONE) return false;
+  return !is_deflate(page.compression) ||
+         (page.predictor != PREDICTOR_NONE && page.predictor != PREDICTOR_HORIZONTAL);
+}
 
 std::string sample_text(SampleType type) {
   switch (type) {
@@ -44,38 +55,36 @@ std::string page_subject(std::uint64_t page_index) {
   return "page " + std::to_string(page_index + 1);
 }
 
-// Reads and checks the current directory's format. Refusals name the page (1-based).
-PageFormat page_format(TiffFile& tiff, std::uint64_t page_index) {
+// Checks a page's format. Refusals name the page (1-based).
+PageFormat page_format(const TiffDirectory& tags, const std::string& path,
+                       std::uint64_t page_index) {
   const std::string page = page_subject(page_index);
   PageFormat format;
-  format.tags = tiff.tags();
-  format.width = format.tags.width;
-  format.height = format.tags.height;
-  const std::uint16_t samples_per_pixel = format.tags.samples_per_pixel;
-  const std::uint16_t bits = format.tags.bits_per_sample;
-  const std::uint16_t sample_format = format.tags.sample_format;
-  // A missing photometric tag reads as min-is-black, as most readers do.
-  const std::uint16_t photometric = format.tags.photometric;
-  const std::uint16_t compression = format.tags.compression;
+  format.width = tags.width;
+  format.height = tags.height;
+  const std::uint16_t samples_per_pixel = tags.samples_per_pixel;
+  const std::uint16_t bits = tags.bits_per_sample;
+  const std::uint16_t sample_format = tags.sample_format;
+  const std::uint16_t photometric = tags.photometric;
+  const std::uint16_t compression = tags.compression;
 
   if (format.width == 0 || format.height == 0) {
-    throw Error(tiff.path(), page + " has no pixels (" + std::to_string(format.width) + "x" +
-                                 std::to_string(format.height) + ")");
+    throw Error(path, page + " has no pixels (" + std::to_string(format.width) + "x" +
+                          std::to_string(format.height) + ")");
   }
   if (photometric == PHOTOMETRIC_PALETTE) {
-    throw Error(tiff.path(), page + " is a palette colour image: convert to grayscale first");
+    throw Error(path, page + " is a palette colour image: convert to grayscale first");
   }
   if (samples_per_pixel != 1 ||
       (photometric != PHOTOMETRIC_MINISBLACK && photometric != PHOTOMETRIC_MINISWHITE)) {
-    throw Error(tiff.path(), page + " is a colour or multi-sample image (" +
-                                 std::to_string(samples_per_pixel) +
-                                 " samples per pixel, photometric " + std::to_string(photometric) +
-                                 "): convert to grayscale first");
+    throw Error(path, page + " is a colour or multi-sample image (" +
+                          std::to_string(samples_per_pixel) + " samples per pixel, photometric " +
+                          std::to_string(photometric) + "): convert to grayscale first");
   }
   if (photometric == PHOTOMETRIC_MINISWHITE) {
-    throw Error(tiff.path(), page +
-                                 " is min-is-white (0 is white): invert it to min-is-black "
-                                 "first, so that higher values are denser");
+    throw Error(path, page +
+                          " is min-is-white (0 is white): invert it to min-is-black "
+                          "first, so that higher values are denser");
   }
   if (bits == 8 && sample_format == SAMPLEFORMAT_UINT) {
     format.type = SampleType::u8;
@@ -90,13 +99,13 @@ PageFormat page_format(TiffFile& tiff, std::uint64_t page_index) {
                        : sample_format == SAMPLEFORMAT_INT    ? "signed"
                        : sample_format == SAMPLEFORMAT_IEEEFP ? "float"
                                                               : "other";
-    throw Error(tiff.path(), page + " has " + std::to_string(bits) + "-bit " + kind +
-                                 " samples: mvox reads 8-bit unsigned, 16-bit unsigned or signed, "
-                                 "and 32-bit float");
+    throw Error(path, page + " has " + std::to_string(bits) + "-bit " + kind +
+                          " samples: mvox reads 8-bit unsigned, 16-bit unsigned or signed, "
+                          "and 32-bit float");
   }
-  if (!format.tags.codec_configured) {
-    throw Error(tiff.path(), page + " uses compression " + std::to_string(compression) +
-                                 ", which this libtiff cannot decode");
+  if (decoded_by_libtiff(tags) && !tiff_codec_configured(compression, path)) {
+    throw Error(path, page + " uses compression " + std::to_string(compression) +
+                          ", which this libtiff cannot decode");
   }
   return format;
 }
@@ -115,10 +124,6 @@ std::uint64_t sum(std::uint64_t a, std::uint64_t b) {
 
 std::uint64_t slice_bytes(const VolumeInfo& info) {
   return product(product(info.width, info.height), sample_bytes(info.type));
-}
-
-bool is_deflate(std::uint16_t compression) {
-  return compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_DEFLATE;
 }
 
 // How far a codec's stored bytes can expand (compression_bounds.h).
@@ -176,53 +181,50 @@ struct PageBuffers {
 // Refuses a page whose strips or tiles do not lie inside the file (the file was cut short),
 // or declare more decoded bytes than their stored bytes can hold, alone or all together, and
 // tiles far larger than the image. `format` is the page's, checked already.
-PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint64_t file_bytes,
+PageBuffers check_page_data(const TiffDirectory& tags, const std::string& path,
+                            std::uint64_t page_index, std::uint64_t file_bytes,
                             const PageFormat& format) {
   const std::string page = page_subject(page_index);
-  const bool tiled = format.tags.tiled != 0;
+  const bool tiled = tags.tiled;
   const std::string samples_text = " " + sample_text(format.type) + " samples";
   const std::uint64_t bytes_per_sample = sample_bytes(format.type);
   const std::uint64_t row_bytes = std::uint64_t{format.width} * bytes_per_sample;
-  const CodecBound codec = codec_bound(format.tags.compression);
+  const CodecBound codec = codec_bound(tags.compression);
   PageBuffers buffers;
 
   std::uint32_t tile_width = 0, tile_height = 0, rows_per_strip = format.height;
   if (tiled) {
-    tile_width = format.tags.tile_width;
-    tile_height = format.tags.tile_height;
+    tile_width = tags.tile_width;
+    tile_height = tags.tile_height;
     const std::uint64_t tile_samples = std::uint64_t{tile_width} * tile_height;
     if (tile_samples == 0) {
-      throw Error(tiff.path(), page + ": invalid tile size " + std::to_string(tile_width) + "x" +
-                                   std::to_string(tile_height));
+      throw Error(path, page + ": invalid tile size " + std::to_string(tile_width) + "x" +
+                            std::to_string(tile_height));
     }
     const std::uint64_t image_samples =
         product(round_up_16(format.width), round_up_16(format.height));
     if (tile_samples > std::max(image_samples, kLargestFixedTileSamples)) {
-      throw Error(tiff.path(), page + ": its " + std::to_string(tile_width) + "x" +
-                                   std::to_string(tile_height) + " tiles are far larger than the " +
-                                   std::to_string(format.width) + "x" +
-                                   std::to_string(format.height) +
-                                   " image (a tile may hold the image rounded up to multiples of "
-                                   "16, or 4096x4096 samples)");
+      throw Error(path, page + ": its " + std::to_string(tile_width) + "x" +
+                            std::to_string(tile_height) + " tiles are far larger than the " +
+                            std::to_string(format.width) + "x" + std::to_string(format.height) +
+                            " image (a tile may hold the image rounded up to multiples of "
+                            "16, or 4096x4096 samples)");
     }
     buffers.tile = product(tile_samples, bytes_per_sample);
   } else {
-    rows_per_strip = format.tags.rows_per_strip;
-    if (rows_per_strip == 0 || rows_per_strip > format.height) rows_per_strip = format.height;
+    rows_per_strip = tags.strip_rows();
   }
 
-  const std::uint32_t count = format.tags.chunks;
+  const std::size_t count = tags.chunk_offsets.size();
   std::uint64_t stored_total = 0, decoded_total = 0;
-  for (std::uint32_t i = 0; i < count; ++i) {
+  for (std::size_t i = 0; i < count; ++i) {
     const std::string chunk = (tiled ? "tile " : "strip ") + std::to_string(i);
-    std::uint64_t offset = 0, bytes = 0;
-    if (!tiff.chunk_location(i, &offset, &bytes) || bytes == 0) {
-      throw Error(tiff.path(), page + ": " + chunk + " has no data" + tiff.take_error());
-    }
+    const std::uint64_t offset = tags.chunk_offsets[i], bytes = tags.chunk_bytes[i];
+    if (bytes == 0) throw Error(path, page + ": " + chunk + " has no data");
     if (offset > file_bytes || file_bytes - offset < bytes) {
-      throw Error(tiff.path(), page + ": " + chunk + " ends at byte " +
-                                   std::to_string(offset + bytes) + ", but the file is " +
-                                   std::to_string(file_bytes) + " bytes (truncated)");
+      throw Error(path, page + ": " + chunk + " ends at byte " + std::to_string(offset + bytes) +
+                            ", but the file is " + std::to_string(file_bytes) +
+                            " bytes (truncated)");
     }
     // A strip holds rows_per_strip rows, the last one what is left; a tile is whole even
     // where it reaches past the image.
@@ -238,9 +240,8 @@ PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint6
       declared = std::to_string(rows) + " rows of " + std::to_string(format.width);
     }
     if (!could_hold(codec, bytes, decoded)) {
-      throw Error(tiff.path(), page + ": " + chunk + " declares " + std::to_string(decoded) +
-                                   " bytes (" + declared + samples_text + ")" +
-                                   stored_text(codec, bytes));
+      throw Error(path, page + ": " + chunk + " declares " + std::to_string(decoded) + " bytes (" +
+                            declared + samples_text + ")" + stored_text(codec, bytes));
     }
     stored_total = sum(stored_total, bytes);
     decoded_total = sum(decoded_total, decoded);
@@ -249,11 +250,10 @@ PageBuffers check_page_data(TiffFile& tiff, std::uint64_t page_index, std::uint6
   // Many small strips or tiles, each within its codec's allowance for a stream's overhead,
   // must not add up to a page that the file cannot hold either.
   if (!could_hold(codec, stored_total, decoded_total)) {
-    throw Error(tiff.path(), page + " declares " + std::to_string(decoded_total) + " bytes (" +
-                                 std::to_string(format.width) + "x" +
-                                 std::to_string(format.height) + samples_text + ") in " +
-                                 std::to_string(count) + (tiled ? " tiles" : " strips") +
-                                 stored_text(codec, stored_total));
+    throw Error(path, page + " declares " + std::to_string(decoded_total) + " bytes (" +
+                          std::to_string(format.width) + "x" + std::to_string(format.height) +
+                          samples_text + ") in " + std::to_string(count) +
+                          (tiled ? " tiles" : " strips") + stored_text(codec, stored_total));
   }
   return buffers;
 }
@@ -272,20 +272,13 @@ void grow_buffer(ReadBuffer& buffer, std::uint64_t bytes, const std::string& pat
   }
 }
 
-std::uint64_t file_size(const std::string& path) {
-  struct stat status {};
-  if (::stat(path.c_str(), &status) != 0) throw Error(path, "cannot stat: " + errno_text(errno));
-  return static_cast<std::uint64_t>(status.st_size);
-}
-
 bool same_format(const PageFormat& a, const PageFormat& b) {
   return a.width == b.width && a.height == b.height && a.type == b.type;
 }
 
 // ImageJ writes stacks with "ImageJ=1.x\nimages=N\nslices=N\nunit=mm\nspacing=2.5\n..." in the
 // ImageDescription and the pixel size as XResolution/YResolution (pixels per unit).
-void read_imagej_spacing(const mvox_tiff_page& tags, VolumeInfo& info) {
-  if (!tags.description) return;
+void read_imagej_spacing(const TiffDirectory& tags, VolumeInfo& info) {
   const std::string_view text(tags.description);
   if (text.substr(0, 7) != "ImageJ=") return;
   double z_spacing = 0;
@@ -326,80 +319,130 @@ std::uint64_t TiffStackSource::working_bytes() const {
   const std::uint64_t libtiff_raw = (largest_libtiff_chunk_ + 1023) / 1024 * 1024;
   const std::uint64_t deflate =
       largest_deflate_chunk_ == 0 ? 0 : largest_deflate_chunk_ + ZlibStreamCheck::kWorkingBytes;
-  return sum(sum(slice, largest_tile_), sum(libtiff_raw, deflate));
+  // The current page's strip or tile offsets and byte counts.
+  const std::uint64_t locations = product(largest_chunk_count_, 2 * sizeof(std::uint64_t));
+  return sum(sum(sum(slice, largest_tile_), sum(libtiff_raw, deflate)), locations);
 }
 
 TiffStackSource::~TiffStackSource() = default;
 
 void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
-  TiffFile tiff(files_[file_index]);
-  const std::uint64_t bytes = file_size(tiff.path());
+  TiffDirectoryReader reader(files_[file_index]);
+  const std::string& path = reader.path();
+  TiffDirectory tags;
   std::uint64_t page = 0;
-  for (;;) {
-    const PageFormat format = page_format(tiff, page);
+  while (reader.next(&tags)) {
+    const PageFormat format = page_format(tags, path, page);
     if (file_index == 0 && page == 0) {
       info_.width = format.width;
       info_.height = format.height;
       info_.type = format.type;
-      read_imagej_spacing(format.tags, info_);
+      read_imagej_spacing(tags, info_);
     } else {
       const PageFormat first{info_.width, info_.height, info_.type};
       if (!same_format(format, first)) {
         const std::string like = file_index == 0 ? "page 1" : "page 1 of " + files_[0];
-        throw Error(tiff.path(), page_subject(page) + " is " + std::to_string(format.width) + "x" +
-                                     std::to_string(format.height) + " " +
-                                     sample_text(format.type) + ", expected " +
-                                     std::to_string(first.width) + "x" +
-                                     std::to_string(first.height) + " " + sample_text(first.type) +
-                                     " like " + like);
+        throw Error(path, page_subject(page) + " is " + std::to_string(format.width) + "x" +
+                              std::to_string(format.height) + " " + sample_text(format.type) +
+                              ", expected " + std::to_string(first.width) + "x" +
+                              std::to_string(first.height) + " " + sample_text(first.type) +
+                              " like " + like);
       }
     }
-    const PageBuffers buffers = check_page_data(tiff, page, bytes, format);
+    const PageBuffers buffers = check_page_data(tags, path, page, reader.file_bytes(), format);
     largest_tile_ = std::max(largest_tile_, buffers.tile);
-    if (is_deflate(format.tags.compression)) {
+    largest_chunk_count_ = std::max<std::uint64_t>(largest_chunk_count_, tags.chunk_offsets.size());
+    if (is_deflate(tags.compression)) {
       largest_deflate_chunk_ = std::max(largest_deflate_chunk_, buffers.largest_chunk);
-    } else if (format.tags.compression != COMPRESSION_NONE) {
+    } else if (tags.compression != COMPRESSION_NONE) {
       largest_libtiff_chunk_ = std::max(largest_libtiff_chunk_, buffers.largest_chunk);
     }
     ++page;
-    tiff.take_error();
-    if (!tiff.read_directory()) {
-      // false both at the last page and on a broken directory; only the latter reports an error.
-      const std::string error = tiff.take_error();
-      if (!error.empty()) {
-        throw Error(tiff.path(),
-                    "cannot read the directory of page " + std::to_string(page + 1) + error);
-      }
-      break;
-    }
   }
   pages_per_file_.push_back(page);
   *pages += page;
 }
 
-bool TiffStackSource::read_chunk(const mvox_tiff_page& tags, std::uint32_t index, bool deflate,
-                                 unsigned char* out, std::size_t out_bytes,
+void TiffStackSource::position_libtiff() {
+  const std::string& path = open_->path();
+  const std::string page = page_subject(page_in_file_);
+  if (!libtiff_) {
+    libtiff_ = std::make_unique<TiffFile>(path);
+    libtiff_page_ = 0;
+  }
+  while (libtiff_page_ < page_in_file_) {
+    libtiff_->take_error();
+    if (!libtiff_->read_directory()) {
+      throw Error(path, "libtiff cannot read the directory of " + page + libtiff_->take_error());
+    }
+    ++libtiff_page_;
+  }
+  // libtiff decodes by its own reading of the directory, which must be mvox's.
+  const mvox_tiff_page theirs = libtiff_->tags();
+  const TiffDirectory& ours = page_;
+  bool same = theirs.width == ours.width && theirs.height == ours.height &&
+              theirs.samples_per_pixel == ours.samples_per_pixel &&
+              theirs.bits_per_sample == ours.bits_per_sample &&
+              theirs.sample_format == ours.sample_format &&
+              theirs.compression == ours.compression && theirs.fill_order == ours.fill_order &&
+              theirs.predictor == ours.predictor &&
+              (theirs.byte_swapped != 0) == open_->byte_swapped() &&
+              (theirs.tiled != 0) == ours.tiled && theirs.chunks == ours.chunk_offsets.size();
+  if (same && ours.tiled) {
+    same = theirs.tile_width == ours.tile_width && theirs.tile_height == ours.tile_height;
+  } else if (same) {
+    const std::uint32_t rows = theirs.rows_per_strip;
+    same = (rows == 0 || rows > theirs.height ? theirs.height : rows) == ours.strip_rows();
+  }
+  for (std::uint32_t i = 0; same && i < theirs.chunks; ++i) {
+    std::uint64_t offset = 0, bytes = 0;
+    same = libtiff_->chunk_location(i, &offset, &bytes) && offset == ours.chunk_offsets[i];
+  }
+  if (!same) {
+    throw Error(
+        path, page + ": libtiff reads its directory otherwise than mvox" + libtiff_->take_error());
+  }
+  // When libtiff decodes deflate (the floating-point predictor), it must not use libdeflate,
+  // which can leave the end of a strip unwritten (tiff_codecs_api.h).
+  if (is_deflate(ours.compression) && !libtiff_->inflate_with_zlib()) {
+    throw Error(path, page + ": libtiff cannot decode deflate with zlib" + libtiff_->take_error());
+  }
+}
+
+void TiffStackSource::read_chunk(std::uint32_t index, unsigned char* out, std::size_t out_bytes,
                                  std::size_t row_samples) {
-  TiffFile& tiff = *open_;
-  if (!deflate) return tiff.read_chunk(index, out, out_bytes);
-  // libtiff's deflate decoder stops once it has the samples, often before the zlib checksum:
-  // the stored bytes are read here and inflated whole, checksum included (zlib_stream_check.h).
-  const std::string chunk = page_subject(page_in_file_) + ": " + (tags.tiled ? "tile " : "strip ") +
-                            std::to_string(index);
-  std::uint64_t offset = 0, stored = 0;
-  if (!tiff.chunk_location(index, &offset, &stored)) return false;
+  const std::string& path = open_->path();
+  const std::string chunk = page_subject(page_in_file_) + ": " +
+                            (page_.tiled ? "tile " : "strip ") + std::to_string(index);
+  const std::uint64_t offset = page_.chunk_offsets[index], stored = page_.chunk_bytes[index];
+  const bool deflate = is_deflate(page_.compression);
+  if (!deflate && page_.compression != COMPRESSION_NONE) {
+    if (!libtiff_->read_chunk(index, out, out_bytes)) {
+      throw Error(path, chunk + ": libtiff cannot decode it" + libtiff_->take_error());
+    }
+    return;
+  }
   // The constructor saw every strip and tile; the file may have changed since.
-  if (stored > largest_deflate_chunk_) {
-    throw Error(tiff.path(), chunk + " changed since the stack was opened");
+  if (deflate ? stored > largest_deflate_chunk_ : stored < out_bytes) {
+    throw Error(path, chunk + " changed since the stack was opened");
   }
-  grow_buffer(raw_, stored, tiff.path(), "the stored data of " + chunk);
-  if (!tiff.read_stored_chunk(index, raw_.data(), stored)) {
-    throw Error(tiff.path(), chunk + ": cannot read its " + std::to_string(stored) + " bytes" +
-                                 tiff.take_error());
+  const bool reversed = page_.fill_order == FILLORDER_LSB2MSB;
+  const std::size_t bytes_per_sample = sample_bytes(info_.type);
+  const std::size_t rows = out_bytes / (row_samples * bytes_per_sample);
+  if (!deflate) {
+    // Uncompressed: the stored bytes are the samples, bits and bytes in the file's order.
+    open_->read_at(offset, out, out_bytes);
+    if (reversed) reverse_bit_order(out, out_bytes);
+    finish_tiff_samples(out, rows, row_samples, bytes_per_sample, open_->byte_swapped(),
+                        PREDICTOR_NONE);
+    return;
   }
+  // libtiff's deflate decoder stops once it has the samples, often before the zlib checksum:
+  // the stored bytes are inflated whole here, checksum included (zlib_stream_check.h).
+  grow_buffer(raw_, stored, path, "the stored data of " + chunk);
+  open_->read_at(offset, raw_.data(), static_cast<std::size_t>(stored));
   // Bits stored in reverse order (FillOrder 2) are put right before inflating, as libtiff
   // does.
-  const bool reversed = tags.fill_order == FILLORDER_LSB2MSB;
   if (reversed) reverse_bit_order(raw_.data(), static_cast<std::size_t>(stored));
   if (!deflate_check_) deflate_check_ = std::make_unique<ZlibStreamCheck>();
   ZlibStreamCheck::Result inflated;
@@ -407,74 +450,57 @@ bool TiffStackSource::read_chunk(const mvox_tiff_page& tags, std::uint32_t index
     inflated =
         deflate_check_->inflate(raw_.data(), static_cast<std::size_t>(stored), out, out_bytes);
   } catch (const std::bad_alloc&) {
-    throw Error(tiff.path(), "out of memory: cannot allocate zlib's state (about " +
-                                 std::to_string(ZlibStreamCheck::kWorkingBytes) + " bytes)");
+    throw Error(path, "out of memory: cannot allocate zlib's state (about " +
+                          std::to_string(ZlibStreamCheck::kWorkingBytes) + " bytes)");
   }
   if (!inflated.problem.empty()) {
-    throw Error(tiff.path(), chunk + ": corrupt deflate data (zlib: " + inflated.problem + ")");
+    throw Error(path, chunk + ": corrupt deflate data (zlib: " + inflated.problem + ")");
   }
   if (inflated.total < out_bytes) {
-    throw Error(tiff.path(), chunk + ": its deflate data decode to " +
-                                 std::to_string(inflated.total) + " bytes, fewer than the " +
-                                 std::to_string(out_bytes) + " it holds");
+    throw Error(path, chunk + ": its deflate data decode to " + std::to_string(inflated.total) +
+                          " bytes, fewer than the " + std::to_string(out_bytes) + " it holds");
   }
   // What libtiff does after inflating: byte order and predictor.
-  const std::size_t bytes_per_sample = sample_bytes(info_.type);
-  if (finish_tiff_samples(out, out_bytes / (row_samples * bytes_per_sample), row_samples,
-                          bytes_per_sample, tags.byte_swapped != 0, tags.predictor)) {
-    return true;
+  if (finish_tiff_samples(out, rows, row_samples, bytes_per_sample, open_->byte_swapped(),
+                          page_.predictor)) {
+    return;
   }
   // The floating-point predictor: libtiff decodes the checked bytes once more, from this buffer
   // (with their bits back in stored order, which it reverses itself).
   if (reversed) reverse_bit_order(raw_.data(), static_cast<std::size_t>(stored));
-  return tiff.decode_stored_chunk(index, raw_.data(), stored, out, out_bytes);
+  if (!libtiff_->decode_stored_chunk(index, raw_.data(), stored, out, out_bytes)) {
+    throw Error(path, chunk + ": libtiff cannot decode it" + libtiff_->take_error());
+  }
 }
 
-void TiffStackSource::read_page(ReadBuffer& buffer, const mvox_tiff_page& tags) {
-  TiffFile& tiff = *open_;
-  const std::string page = page_subject(page_in_file_);
-  const bool deflate = is_deflate(tags.compression);
-  // When libtiff decodes deflate itself (the floating-point predictor, read_chunk), it must not
-  // use libdeflate, which can leave the end of a strip unwritten (tiff_codecs_api.h).
-  if (deflate && !tiff.inflate_with_zlib()) {
-    throw Error(tiff.path(),
-                page + ": libtiff cannot decode deflate with zlib" + tiff.take_error());
-  }
+void TiffStackSource::read_page(ReadBuffer& buffer) {
+  if (decoded_by_libtiff(page_)) position_libtiff();
   const std::size_t bytes_per_sample = sample_bytes(info_.type);
   const std::size_t row_bytes = static_cast<std::size_t>(info_.width) * bytes_per_sample;
-  tiff.take_error();
 
-  if (!tags.tiled) {
-    std::uint32_t rows_per_strip = tags.rows_per_strip;
-    if (rows_per_strip == 0 || rows_per_strip > info_.height) rows_per_strip = info_.height;
+  if (!page_.tiled) {
+    const std::uint32_t rows_per_strip = page_.strip_rows();
     for (std::uint32_t row = 0; row < info_.height; row += rows_per_strip) {
       const std::uint32_t rows = std::min(rows_per_strip, info_.height - row);
-      if (!read_chunk(tags, tiff.chunk_at(0, row), deflate, buffer.data() + row * row_bytes,
-                      rows * row_bytes, info_.width)) {
-        throw Error(tiff.path(), page + ": cannot decode the strip at row " + std::to_string(row) +
-                                     tiff.take_error());
-      }
+      read_chunk(page_.chunk_at(0, row), buffer.data() + row * row_bytes, rows * row_bytes,
+                 info_.width);
     }
     return;
   }
 
-  const std::uint32_t tile_width = tags.tile_width, tile_height = tags.tile_height;
+  const std::uint32_t tile_width = page_.tile_width, tile_height = page_.tile_height;
   const std::uint64_t tile_bytes = product(product(tile_width, tile_height), bytes_per_sample);
   // The constructor checked the tile size; the file may have changed since.
-  if (tile_width == 0 || tile_height == 0 || tags.tile_bytes < tile_bytes ||
-      tile_bytes > largest_tile_) {
-    throw Error(tiff.path(), page + ": invalid tile size " + std::to_string(tile_width) + "x" +
-                                 std::to_string(tile_height));
+  if (tile_width == 0 || tile_height == 0 || tile_bytes > largest_tile_) {
+    throw Error(open_->path(), page_subject(page_in_file_) + ": invalid tile size " +
+                                   std::to_string(tile_width) + "x" + std::to_string(tile_height));
   }
-  grow_buffer(tile_, tile_bytes, tiff.path(),
+  grow_buffer(tile_, tile_bytes, open_->path(),
               "a " + std::to_string(tile_width) + "x" + std::to_string(tile_height) + " tile");
   for (std::uint32_t y = 0; y < info_.height; y += tile_height) {
     for (std::uint32_t x = 0; x < info_.width; x += tile_width) {
-      if (!read_chunk(tags, tiff.chunk_at(x, y), deflate, tile_.data(),
-                      static_cast<std::size_t>(tile_bytes), tile_width)) {
-        throw Error(tiff.path(), page + ": cannot decode the tile at x " + std::to_string(x) +
-                                     ", y " + std::to_string(y) + tiff.take_error());
-      }
+      read_chunk(page_.chunk_at(x, y), tile_.data(), static_cast<std::size_t>(tile_bytes),
+                 tile_width);
       // Tiles on the right and bottom edges reach past the image; only their inside is copied.
       const std::uint32_t rows = std::min(tile_height, info_.height - y);
       const std::size_t copy_bytes = std::min(tile_width, info_.width - x) * bytes_per_sample;
@@ -490,26 +516,25 @@ bool TiffStackSource::next_slice(SliceView* slice) {
   if (next_index_ >= info_.depth) return false;
   if (open_ && page_in_file_ >= pages_per_file_[file_index_]) {
     open_.reset();
+    libtiff_.reset();
     ++file_index_;
   }
   if (!open_) {
-    open_ = std::make_unique<TiffFile>(files_[file_index_]);
+    open_ = std::make_unique<TiffDirectoryReader>(files_[file_index_]);
     page_in_file_ = 0;
-  } else {
-    open_->take_error();
-    if (!open_->read_directory()) {
-      throw Error(open_->path(), "cannot read the directory of page " +
-                                     std::to_string(page_in_file_ + 1) + open_->take_error());
-    }
+  }
+  if (!open_->next(&page_)) {
+    throw Error(open_->path(), page_subject(page_in_file_) + " is gone since the stack was opened");
   }
   // Checked again while streaming: the file may have changed since the constructor looked.
-  const PageFormat format = page_format(*open_, page_in_file_);
-  if (!same_format(format, PageFormat{info_.width, info_.height, info_.type})) {
+  const PageFormat format = page_format(page_, open_->path(), page_in_file_);
+  if (!same_format(format, PageFormat{info_.width, info_.height, info_.type}) ||
+      page_.chunk_offsets.size() > largest_chunk_count_) {
     throw Error(open_->path(), page_subject(page_in_file_) + " changed since the stack was opened");
   }
   grow_buffer(buffer_, slice_bytes(info_), open_->path(),
               "the " + std::to_string(info_.width) + "x" + std::to_string(info_.height) + " slice");
-  read_page(buffer_, format.tags);
+  read_page(buffer_);
 
   slice->samples = buffer_.data();
   slice->width = info_.width;
@@ -527,13 +552,10 @@ bool has_tiff_extension(const std::string& path) {
 }
 
 std::uint64_t tiff_page_count(const std::string& path) {
-  TiffFile tiff(path);
-  std::uint64_t pages = 1;
-  while (tiff.read_directory()) ++pages;
-  const std::string error = tiff.take_error();
-  if (!error.empty()) {
-    throw Error(path, "cannot read the directory of page " + std::to_string(pages + 1) + error);
-  }
+  TiffDirectoryReader reader(path);
+  TiffDirectory page;
+  std::uint64_t pages = 0;
+  while (reader.next(&page)) ++pages;
   return pages;
 }
 

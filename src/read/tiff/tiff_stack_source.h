@@ -1,17 +1,19 @@
 #pragma once
-// Reads TIFF files as one stack of slices through libtiff, in the TIFF module (tiff_file.h):
-// every page (directory) of every file, files in the given order and pages in file order, one
-// page decoded at a time. A multi-page TIFF is a whole volume in one file; single-page TIFF
-// slices work the same way.
+// Reads TIFF files as one stack of slices: every page (directory) of every file, files in the
+// given order and pages in file order, one page decoded at a time. A multi-page TIFF is a whole
+// volume in one file; single-page TIFF slices work the same way. mvox reads the directories
+// (tiff_directory.h), uncompressed data and deflate data itself; only pages of other codecs (and
+// deflate with the floating-point predictor) load libtiff, in the TIFF module (tiff_file.h), to
+// decode them, after checking that libtiff reads their directory as mvox does.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "modules/tiff_codecs/tiff_codecs_api.h"
 #include "mvox/slice_source.h"
 #include "read/read_buffer.h"
+#include "read/tiff/tiff_directory.h"
 #include "read/zlib_stream_check.h"
 
 namespace mvox {
@@ -24,7 +26,8 @@ class TiffFile;
 // and refuses before any slice is read: an unreadable file or directory, a colour, palette,
 // min-is-white or multi-sample page, another bit depth or sample format, a page of another size
 // or type than the first (named by file and 1-based page number), a page whose strips or
-// tiles lie beyond the end of its file (truncated), and a header that lies about sizes:
+// tiles lie beyond the end of its file (truncated), a compression that no code here decodes,
+// and a header that lies about sizes:
 // - a strip or tile, or a whole page, that declares more decoded bytes than its stored bytes
 //   can decode to (compression_bounds.h: uncompressed exactly, deflate, LZW, PackBits and
 //   JPEG by their ratios; codecs without a bound, such as LZMA or Zstandard, are left to the
@@ -36,9 +39,10 @@ class TiffFile;
 // info(): width, height, type of the first page; depth = all pages. Spacing 1,1,1, unless the
 // first file is an ImageJ stack whose ImageDescription gives "spacing=" (the z spacing); then x
 // and y come from its XResolution and YResolution (pixels per unit) and z from that.
-// Memory: nothing but the directories until the first slice is read; then one slice buffer,
-// reused, plus one tile for tiled pages, the largest stored strip or tile of compressed pages
-// and the deflate check's scratch: working_bytes(), an upper bound known from the directories.
+// Memory: nothing but one directory at a time until the first slice is read; then one slice
+// buffer, reused, plus one tile for tiled pages, the largest stored strip or tile of compressed
+// pages, the deflate check's scratch and the current page's strip or tile locations:
+// working_bytes(), an upper bound known from the directories.
 // Throws mvox::Error naming the file (and page) for every problem, including decoding errors
 // met while streaming and allocations that fail (naming the bytes asked for).
 class TiffStackSource : public SliceSource {
@@ -49,18 +53,22 @@ class TiffStackSource : public SliceSource {
   const VolumeInfo& info() const override { return info_; }
   bool next_slice(SliceView* slice) override;
   // The slice, the largest tile, the largest stored strip or tile that libtiff or the deflate
-  // check reads whole (rounded up as libtiff allocates), and the deflate check's own buffers.
-  // libtiff's codec state (tens of KiB) is not counted.
+  // check reads whole (rounded up as libtiff allocates), the deflate check's own buffers, and
+  // the largest page's strip or tile locations. libtiff's own state (its codec's, tens of KiB,
+  // and its copy of a directory) is not counted.
   std::uint64_t working_bytes() const override;
 
  private:
   void check_file(std::size_t file_index, std::uint64_t* pages);
-  void read_page(ReadBuffer& buffer, const mvox_tiff_page& tags);
+  void read_page(ReadBuffer& buffer);
   // Decodes strip or tile `index` of the current page, rows of `row_samples` samples, into
-  // out[0, out_bytes); false when libtiff cannot. Deflate data are inflated whole here, so that
-  // their checksum is checked (zlib_stream_check.h), and throw when corrupt.
-  bool read_chunk(const mvox_tiff_page& tags, std::uint32_t index, bool deflate,
-                  unsigned char* out, std::size_t out_bytes, std::size_t row_samples);
+  // out[0, out_bytes), or throws naming page and strip or tile. Deflate data are inflated whole
+  // here, so that their checksum is checked (zlib_stream_check.h).
+  void read_chunk(std::uint32_t index, unsigned char* out, std::size_t out_bytes,
+                  std::size_t row_samples);
+  // Opens the current file in libtiff if it is not yet, moves it to the current page, and
+  // checks that libtiff reads the page's directory as mvox did.
+  void position_libtiff();
 
   std::vector<std::string> files_;
   std::vector<std::uint64_t> pages_per_file_;  // counted by the constructor
@@ -70,13 +78,17 @@ class TiffStackSource : public SliceSource {
   ReadBuffer raw_;     // one stored deflate strip or tile
   std::unique_ptr<ZlibStreamCheck> deflate_check_;  // from the first deflate page
   // Upper bounds over every page, from the directories (working_bytes()).
-  std::uint64_t largest_tile_ = 0;           // decoded bytes of the largest tile
-  std::uint64_t largest_deflate_chunk_ = 0;  // stored bytes of the largest deflate strip or tile
-  std::uint64_t largest_libtiff_chunk_ = 0;  // ... of other compressed pages, which libtiff reads
-  std::unique_ptr<TiffFile> open_;           // the file being streamed
-  std::size_t file_index_ = 0;               // of open_
-  std::uint64_t page_in_file_ = 0;           // 0-based page of open_ that next_slice reads next
-  std::uint32_t next_index_ = 0;             // slice of the stack that next_slice returns next
+  std::uint64_t largest_tile_ = 0;             // decoded bytes of the largest tile
+  std::uint64_t largest_deflate_chunk_ = 0;    // stored bytes of the largest deflate strip or tile
+  std::uint64_t largest_libtiff_chunk_ = 0;    // ... of other compressed pages, which libtiff reads
+  std::uint64_t largest_chunk_count_ = 0;      // strips or tiles of the page with the most
+  std::unique_ptr<TiffDirectoryReader> open_;  // the file being streamed
+  TiffDirectory page_;                         // the page of open_ being read
+  std::unique_ptr<TiffFile> libtiff_;  // open_ in libtiff, once a page needs libtiff to decode
+  std::uint64_t libtiff_page_ = 0;     // 0-based page libtiff_ is at
+  std::size_t file_index_ = 0;         // of open_
+  std::uint64_t page_in_file_ = 0;     // 0-based page of open_ that next_slice reads (next)
+  std::uint32_t next_index_ = 0;       // slice of the stack that next_slice returns next
 };
 
 // True when `path` ends in .tif or .tiff, case-insensitive.
