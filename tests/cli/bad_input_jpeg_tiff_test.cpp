@@ -83,14 +83,14 @@ TEST_F(BadInput, TiffDeflateStripFailingItsChecksum) {
 
 TEST_F(BadInput, TiffWhoseDirectoriesLoop) {
   // Three pages, the third's link to a next directory leading back to the first: read forever
-  // by a reader that does not keep the directories it has seen.
+  // by a reader that does not look for loops.
   const test::TiffPageBytes page{12, 10, 8, 1, 0, 0, 0, {std::vector<unsigned char>(120, 200)}};
   std::vector<unsigned char> tiff = test::tiff_file_bytes({page, page, page});
   test::put_tiff_u32(tiff, test::tiff_next_link(tiff, 2), test::tiff_directory_offset(tiff, 0));
   write_bytes(dir_ / "loop.tif", std::string(tiff.begin(), tiff.end()));
   expect_refused("extract loop.tif -t 128" + kOutputs, "loop.tif",
-                 "cannot read the directory of page 4: the directories loop back to an earlier "
-                 "one");
+                 "cannot read the directory of page 6: it is an earlier page's (the directories "
+                 "loop)");
 }
 
 // Lying headers must cost what their files hold, not what they declare. The whole process,

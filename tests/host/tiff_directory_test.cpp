@@ -120,6 +120,21 @@ TEST(TiffDirectory, UncompressedPagesWithoutByteCountsHoldTheirSamples) {
             std::vector<std::uint8_t>(samples.begin(), samples.end()));
 }
 
+TEST(TiffDirectory, ATagsLaterEntriesAreIgnoredAsLibtiffIgnoresThem) {
+  // A deflate page whose PhotometricInterpretation entry is made a second Compression entry,
+  // saying "uncompressed": the first one holds.
+  ScratchDirectory dir;
+  const std::vector<unsigned char> samples(12 * 10, 77);
+  std::vector<unsigned char> bytes = test::tiff_file_bytes(
+      {{12, 10, 8, COMPRESSION_ADOBE_DEFLATE, 0, 0, 0, {test::zlib_compressed(samples)}}});
+  const std::size_t photometric = test::tiff_entry_offset(bytes, 0, TIFFTAG_PHOTOMETRIC);
+  test::put_tiff_u16(bytes, photometric, TIFFTAG_COMPRESSION);
+  test::put_tiff_u16(bytes, photometric + 8, COMPRESSION_NONE);
+  test::write_bytes(dir / "twice.tif", bytes);
+  EXPECT_EQ(read_stack<std::uint8_t>({dir / "twice.tif"}),
+            std::vector<std::uint8_t>(samples.begin(), samples.end()));
+}
+
 std::string refusal(const std::vector<unsigned char>& bytes) {
   ScratchDirectory dir;
   test::write_bytes(dir / "bad.tif", bytes);
@@ -169,7 +184,17 @@ TEST(TiffDirectory, BrokenHeadersAndDirectoriesAreRefusedNamingThePage) {
   const std::uint32_t first = test::tiff_directory_offset(bytes, 0);
   test::put_tiff_u32(bytes, test::tiff_next_link(bytes, 1), first);
   EXPECT_EQ(refusal(bytes),
-            "cannot read the directory of page 3: the directories loop back to an earlier one");
+            "cannot read the directory of page 3: it is an earlier page's (the directories loop)");
+  // Five pages, the fifth leading back to the third: found when the third comes round again.
+  bytes = test::tiff_file_bytes({page, page, page, page, page});
+  test::put_tiff_u32(bytes, test::tiff_next_link(bytes, 4), test::tiff_directory_offset(bytes, 2));
+  EXPECT_EQ(refusal(bytes),
+            "cannot read the directory of page 6: it is an earlier page's (the directories loop)");
+  // A directory leading to itself.
+  bytes = good;
+  test::put_tiff_u32(bytes, test::tiff_next_link(bytes, 1), test::tiff_directory_offset(bytes, 1));
+  EXPECT_EQ(refusal(bytes),
+            "cannot read the directory of page 4: it is an earlier page's (the directories loop)");
 
   bytes = good;
   test::put_tiff_u16(bytes, test::tiff_directory_offset(bytes, 1), 5000);

@@ -1,6 +1,7 @@
 #include "read/tiff/tiff_directory.h"
 
 #include <algorithm>
+#include <bitset>
 #include <cstring>
 #include <limits>
 
@@ -312,8 +313,13 @@ std::string TiffDirectoryReader::text(const Entry& entry, const std::string& whe
 
 void TiffDirectoryReader::read_directory(std::uint64_t offset, TiffDirectory* page) {
   const std::string where = "cannot read the directory of page " + std::to_string(pages_read_ + 1);
-  if (!visited_.insert(offset).second) {
-    throw Error(path_, where + ": the directories loop back to an earlier one");
+  if (offset == kept_directory_) {
+    throw Error(path_, where + ": it is an earlier page's (the directories loop)");
+  }
+  if (--directories_until_kept_ == 0) {
+    kept_directory_ = offset;
+    keep_every_ *= 2;
+    directories_until_kept_ = keep_every_;
   }
   const unsigned count_bytes = big_tiff_ ? 8 : 2;
   const unsigned entry_size = big_tiff_ ? 20 : 12;
@@ -341,10 +347,13 @@ void TiffDirectoryReader::read_directory(std::uint64_t offset, TiffDirectory* pa
   *page = TiffDirectory{};
   Entry offsets, byte_counts, tile_offsets, tile_byte_counts;
   bool has_tile_size = false, has_rows_per_strip = false;
+  std::bitset<65536> seen;  // a tag's later entries are ignored, as libtiff ignores them
   for (std::uint64_t i = 0; i < entries; ++i) {
     const unsigned char* at = table.data() + i * entry_size;
     Entry entry;
     entry.tag = static_cast<std::uint16_t>(unsigned_at(at, 2));
+    if (seen[entry.tag]) continue;
+    seen[entry.tag] = true;
     entry.type = static_cast<std::uint16_t>(unsigned_at(at + 2, 2));
     entry.count = unsigned_at(at + 4, big_tiff_ ? 8 : 4);
     entry.field_bytes = field_bytes;

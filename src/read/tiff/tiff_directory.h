@@ -9,10 +9,10 @@
 // number alone. What a directory says is checked only as far as reading it needs (entries and
 // arrays inside the file, no directory visited twice, offsets and byte counts for every strip
 // or tile); what a page may hold is the stack reader's to decide (tiff_stack_source.h).
+// Memory: one directory and its strip or tile locations, whatever the number of pages.
 #include <cstdint>
 #include <memory>
 #include <string>
-#include <unordered_set>
 #include <vector>
 
 namespace mvox {
@@ -96,8 +96,14 @@ class TiffDirectoryReader {
   bool big_tiff_ = false;
   std::uint64_t next_directory_ = 0;  // 0 after the last page
   std::uint64_t pages_read_ = 0;
-  std::unordered_set<std::uint64_t> visited_;  // directory offsets, against loops
-  std::vector<unsigned char> scratch_;         // a directory's entries, an array's bytes
+  // Directories that loop are found in fixed memory, whatever the number of pages, by Brent's
+  // cycle detection: one directory offset is kept, and replaced by the current one after 1, 2,
+  // 4, 8, ... more directories; meeting it again is a loop. A loop is found at the latest
+  // after twice as many directories as the file has.
+  std::uint64_t kept_directory_ = 0;
+  std::uint64_t directories_until_kept_ = 1;
+  std::uint64_t keep_every_ = 1;
+  std::vector<unsigned char> scratch_;  // a directory's entries, an array's bytes
 };
 
 }  // namespace mvox

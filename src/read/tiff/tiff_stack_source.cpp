@@ -298,6 +298,43 @@ void read_imagej_spacing(const TiffDirectory& tags, VolumeInfo& info) {
   }
 }
 
+// Moves `libtiff`, at page *at (0-based), on to page `page_index`, whose directory mvox read as
+// `ours`, and checks that libtiff reads it the same: libtiff decodes by its own reading.
+void move_libtiff_to(TiffFile& libtiff, std::uint64_t* at, std::uint64_t page_index,
+                     const TiffDirectory& ours, bool byte_swapped) {
+  const std::string page = page_subject(page_index);
+  while (*at < page_index) {
+    libtiff.take_error();
+    if (!libtiff.read_directory()) {
+      throw Error(libtiff.path(),
+                  "libtiff cannot read the directory of " + page + libtiff.take_error());
+    }
+    ++*at;
+  }
+  const mvox_tiff_page theirs = libtiff.tags();
+  bool same = theirs.width == ours.width && theirs.height == ours.height &&
+              theirs.samples_per_pixel == ours.samples_per_pixel &&
+              theirs.bits_per_sample == ours.bits_per_sample &&
+              theirs.sample_format == ours.sample_format &&
+              theirs.compression == ours.compression && theirs.fill_order == ours.fill_order &&
+              theirs.predictor == ours.predictor && (theirs.byte_swapped != 0) == byte_swapped &&
+              (theirs.tiled != 0) == ours.tiled && theirs.chunks == ours.chunk_offsets.size();
+  if (same && ours.tiled) {
+    same = theirs.tile_width == ours.tile_width && theirs.tile_height == ours.tile_height;
+  } else if (same) {
+    const std::uint32_t rows = theirs.rows_per_strip;
+    same = (rows == 0 || rows > theirs.height ? theirs.height : rows) == ours.strip_rows();
+  }
+  for (std::uint32_t i = 0; same && i < theirs.chunks; ++i) {
+    std::uint64_t offset = 0, bytes = 0;
+    same = libtiff.chunk_location(i, &offset, &bytes) && offset == ours.chunk_offsets[i];
+  }
+  if (!same) {
+    throw Error(libtiff.path(),
+                page + ": libtiff reads its directory otherwise than mvox" + libtiff.take_error());
+  }
+}
+
 }  // namespace
 
 TiffStackSource::TiffStackSource(std::vector<std::string> files) : files_(std::move(files)) {
@@ -330,6 +367,8 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
   TiffDirectoryReader reader(files_[file_index]);
   const std::string& path = reader.path();
   TiffDirectory tags;
+  std::unique_ptr<TiffFile> libtiff;  // opened at the first page that libtiff decodes
+  std::uint64_t libtiff_page = 0;
   std::uint64_t page = 0;
   while (reader.next(&tags)) {
     const PageFormat format = page_format(tags, path, page);
@@ -350,6 +389,12 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
       }
     }
     const PageBuffers buffers = check_page_data(tags, path, page, reader.file_bytes(), format);
+    // Pages libtiff decodes are read by libtiff too, now, so that a directory it refuses or
+    // reads otherwise is refused before any slice is read.
+    if (decoded_by_libtiff(tags)) {
+      if (!libtiff) libtiff = std::make_unique<TiffFile>(path);
+      move_libtiff_to(*libtiff, &libtiff_page, page, tags, reader.byte_swapped());
+    }
     largest_tile_ = std::max(largest_tile_, buffers.tile);
     largest_chunk_count_ = std::max<std::uint64_t>(largest_chunk_count_, tags.chunk_offsets.size());
     if (is_deflate(tags.compression)) {
@@ -365,47 +410,16 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
 
 void TiffStackSource::position_libtiff() {
   const std::string& path = open_->path();
-  const std::string page = page_subject(page_in_file_);
   if (!libtiff_) {
     libtiff_ = std::make_unique<TiffFile>(path);
     libtiff_page_ = 0;
   }
-  while (libtiff_page_ < page_in_file_) {
-    libtiff_->take_error();
-    if (!libtiff_->read_directory()) {
-      throw Error(path, "libtiff cannot read the directory of " + page + libtiff_->take_error());
-    }
-    ++libtiff_page_;
-  }
-  // libtiff decodes by its own reading of the directory, which must be mvox's.
-  const mvox_tiff_page theirs = libtiff_->tags();
-  const TiffDirectory& ours = page_;
-  bool same = theirs.width == ours.width && theirs.height == ours.height &&
-              theirs.samples_per_pixel == ours.samples_per_pixel &&
-              theirs.bits_per_sample == ours.bits_per_sample &&
-              theirs.sample_format == ours.sample_format &&
-              theirs.compression == ours.compression && theirs.fill_order == ours.fill_order &&
-              theirs.predictor == ours.predictor &&
-              (theirs.byte_swapped != 0) == open_->byte_swapped() &&
-              (theirs.tiled != 0) == ours.tiled && theirs.chunks == ours.chunk_offsets.size();
-  if (same && ours.tiled) {
-    same = theirs.tile_width == ours.tile_width && theirs.tile_height == ours.tile_height;
-  } else if (same) {
-    const std::uint32_t rows = theirs.rows_per_strip;
-    same = (rows == 0 || rows > theirs.height ? theirs.height : rows) == ours.strip_rows();
-  }
-  for (std::uint32_t i = 0; same && i < theirs.chunks; ++i) {
-    std::uint64_t offset = 0, bytes = 0;
-    same = libtiff_->chunk_location(i, &offset, &bytes) && offset == ours.chunk_offsets[i];
-  }
-  if (!same) {
-    throw Error(
-        path, page + ": libtiff reads its directory otherwise than mvox" + libtiff_->take_error());
-  }
+  move_libtiff_to(*libtiff_, &libtiff_page_, page_in_file_, page_, open_->byte_swapped());
   // When libtiff decodes deflate (the floating-point predictor), it must not use libdeflate,
   // which can leave the end of a strip unwritten (tiff_codecs_api.h).
-  if (is_deflate(ours.compression) && !libtiff_->inflate_with_zlib()) {
-    throw Error(path, page + ": libtiff cannot decode deflate with zlib" + libtiff_->take_error());
+  if (is_deflate(page_.compression) && !libtiff_->inflate_with_zlib()) {
+    throw Error(path, page_subject(page_in_file_) + ": libtiff cannot decode deflate with zlib" +
+                          libtiff_->take_error());
   }
 }
 
@@ -474,7 +488,6 @@ void TiffStackSource::read_chunk(std::uint32_t index, unsigned char* out, std::s
 }
 
 void TiffStackSource::read_page(ReadBuffer& buffer) {
-  if (decoded_by_libtiff(page_)) position_libtiff();
   const std::size_t bytes_per_sample = sample_bytes(info_.type);
   const std::size_t row_bytes = static_cast<std::size_t>(info_.width) * bytes_per_sample;
 
@@ -532,6 +545,7 @@ bool TiffStackSource::next_slice(SliceView* slice) {
       page_.chunk_offsets.size() > largest_chunk_count_) {
     throw Error(open_->path(), page_subject(page_in_file_) + " changed since the stack was opened");
   }
+  if (decoded_by_libtiff(page_)) position_libtiff();
   grow_buffer(buffer_, slice_bytes(info_), open_->path(),
               "the " + std::to_string(info_.width) + "x" + std::to_string(info_.height) + " slice");
   read_page(buffer_);

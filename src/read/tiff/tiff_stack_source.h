@@ -4,7 +4,8 @@
 // volume in one file; single-page TIFF slices work the same way. mvox reads the directories
 // (tiff_directory.h), uncompressed data and deflate data itself; only pages of other codecs (and
 // deflate with the floating-point predictor) load libtiff, in the TIFF module (tiff_file.h), to
-// decode them, after checking that libtiff reads their directory as mvox does.
+// decode them; libtiff reads their directories too, when the stack is opened, and must read
+// them as mvox does.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -27,7 +28,8 @@ class TiffFile;
 // min-is-white or multi-sample page, another bit depth or sample format, a page of another size
 // or type than the first (named by file and 1-based page number), a page whose strips or
 // tiles lie beyond the end of its file (truncated), a compression that no code here decodes,
-// and a header that lies about sizes:
+// a page whose directory libtiff, decoding it, refuses or reads otherwise than mvox, and a
+// header that lies about sizes:
 // - a strip or tile, or a whole page, that declares more decoded bytes than its stored bytes
 //   can decode to (compression_bounds.h: uncompressed exactly, deflate, LZW, PackBits and
 //   JPEG by their ratios; codecs without a bound, such as LZMA or Zstandard, are left to the
