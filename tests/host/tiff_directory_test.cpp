@@ -244,6 +244,16 @@ TEST(TiffDirectory, BrokenHeadersAndDirectoriesAreRefusedNamingThePage) {
   EXPECT_EQ(refusal(bytes), "cannot read the directory of page 1: it has no StripByteCounts");
 }
 
+TEST(TiffDirectory, CodecsOfNarrowSamplesAreRefusedBeforeTheSliceIsAllocated) {
+  // libtiff refuses to decode CCITT data as 16-bit samples only once asked to decode a strip,
+  // which comes after the slice buffer: 65535x4608 here, 576 MiB for a 100-byte file.
+  const test::TiffPageBytes page{65535, 4608, 16, COMPRESSION_CCITTRLE,
+                                 0,     0,    0,  {std::vector<unsigned char>(100, 1)}};
+  EXPECT_EQ(refusal(test::tiff_file_bytes({page})),
+            "page 1 uses compression 2 (CCITT, bilevel), which holds samples of 1 to 4 bits, not "
+            "the 16 bits it declares");
+}
+
 TEST(TiffDirectory, PageCountIsTheNumberOfDirectories) {
   ScratchDirectory dir;
   const std::vector<std::uint8_t> samples =

@@ -55,6 +55,22 @@ std::string page_subject(std::uint64_t page_index) {
   return "page " + std::to_string(page_index + 1);
 }
 
+// The codecs libtiff decodes for samples of 1 to 4 bits only, never for the 8 to 32 bits mvox
+// reads; such a page is refused by its directory, before its slice is allocated. nullptr for
+// other codecs.
+const char* narrow_sample_codec(std::uint16_t compression) {
+  switch (compression) {
+    case COMPRESSION_CCITTRLE:
+    case COMPRESSION_CCITTFAX3:
+    case COMPRESSION_CCITTFAX4:
+    case COMPRESSION_CCITTRLEW: return "CCITT, bilevel";
+    case COMPRESSION_JBIG: return "JBIG, bilevel";
+    case COMPRESSION_NEXT: return "NeXT, 2-bit";
+    case COMPRESSION_THUNDERSCAN: return "ThunderScan, 4-bit";
+    default: return nullptr;
+  }
+}
+
 // Checks a page's format. Refusals name the page (1-based).
 PageFormat page_format(const TiffDirectory& tags, const std::string& path,
                        std::uint64_t page_index) {
@@ -102,6 +118,11 @@ PageFormat page_format(const TiffDirectory& tags, const std::string& path,
     throw Error(path, page + " has " + std::to_string(bits) + "-bit " + kind +
                           " samples: mvox reads 8-bit unsigned, 16-bit unsigned or signed, "
                           "and 32-bit float");
+  }
+  if (const char* codec = narrow_sample_codec(compression)) {
+    throw Error(path, page + " uses compression " + std::to_string(compression) + " (" + codec +
+                          "), which holds samples of 1 to 4 bits, not the " + std::to_string(bits) +
+                          " bits it declares");
   }
   if (decoded_by_libtiff(tags) && !tiff_codec_configured(compression, path)) {
     throw Error(path, page + " uses compression " + std::to_string(compression) +
