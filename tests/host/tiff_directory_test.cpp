@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <tiffio.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -117,6 +118,33 @@ TEST(TiffDirectory, UncompressedPagesWithoutByteCountsHoldTheirSamples) {
   test::rename_tiff_tag(bytes, 0, TIFFTAG_STRIPBYTECOUNTS, 65000);
   test::write_bytes(dir / "no_counts.tif", bytes);
   EXPECT_EQ(read_stack<std::uint8_t>({dir / "no_counts.tif"}),
+            std::vector<std::uint8_t>(samples.begin(), samples.end()));
+}
+
+TEST(TiffDirectory, DirectoriesLongerThanTheFirstReadAreReadWhole) {
+  // Page 1's directory copied to the end of the file after 300 entries of unknown tags (3.6 KB,
+  // several times the first read of a directory): what mvox needs is in the last entries.
+  ScratchDirectory dir;
+  std::vector<unsigned char> samples(12 * 10);
+  for (std::size_t i = 0; i < samples.size(); ++i) samples[i] = static_cast<unsigned char>(i);
+  std::vector<unsigned char> bytes =
+      test::tiff_file_bytes({{12, 10, 8, COMPRESSION_NONE, 0, 0, 0, {samples}}});
+  const std::uint32_t old_directory = test::tiff_directory_offset(bytes, 0);
+  const std::uint32_t old_entries = bytes[old_directory] | bytes[old_directory + 1] << 8;
+  const std::uint32_t directory = static_cast<std::uint32_t>(bytes.size());
+  bytes.resize(bytes.size() + 2 + 12 * (300 + old_entries) + 4);
+  test::put_tiff_u16(bytes, directory, 300 + old_entries);
+  for (std::uint32_t i = 0; i < 300; ++i) {
+    const std::size_t entry = directory + 2 + 12 * i;
+    test::put_tiff_u16(bytes, entry, 60000 + i);  // a private tag
+    test::put_tiff_u16(bytes, entry + 2, 3);      // SHORT
+    test::put_tiff_u32(bytes, entry + 4, 1);
+  }
+  std::copy_n(bytes.begin() + old_directory + 2, 12 * old_entries,
+              bytes.begin() + directory + 2 + 12 * 300);
+  test::put_tiff_u32(bytes, 4, directory);
+  test::write_bytes(dir / "long.tif", bytes);
+  EXPECT_EQ(read_stack<std::uint8_t>({dir / "long.tif"}),
             std::vector<std::uint8_t>(samples.begin(), samples.end()));
 }
 

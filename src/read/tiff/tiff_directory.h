@@ -103,7 +103,9 @@ class TiffDirectoryReader {
   std::uint64_t kept_directory_ = 0;
   std::uint64_t directories_until_kept_ = 1;
   std::uint64_t keep_every_ = 1;
-  std::vector<unsigned char> scratch_;  // a directory's entries, an array's bytes
+  std::vector<unsigned char> directory_;  // the entries of the directory being read
+  std::vector<unsigned char> scratch_;    // an array's bytes
+  std::vector<std::uint64_t> one_value_;  // a tag's first value
 };
 
 }  // namespace mvox
