@@ -1,25 +1,27 @@
 #!/usr/bin/env python3
 """Writes a raw 8-bit volume as one multi-page TIFF: uncompressed, one strip a page, the way
-ImageJ saves a stack. For the benchmarks' TIFF rows; no library needed beyond Python's own.
+ImageJ saves a stack, or with --deflate each page a zlib stream (TIFF's deflate compression).
+For the benchmarks' TIFF rows; no library needed beyond Python's own.
 
-    bench/raw_to_tiff.py VOLUME.raw WIDTH HEIGHT DEPTH OUT.tif
+    bench/raw_to_tiff.py [--deflate] VOLUME.raw WIDTH HEIGHT DEPTH OUT.tif
 """
 import struct
 import sys
+import zlib
 
 
-def ifd(width, height, data_offset, next_ifd):
+def ifd(width, height, compression, data_offset, data_bytes, next_ifd):
     """One little-endian directory of a grey 8-bit page stored as one strip at data_offset."""
     entries = [  # (tag, type, count, value): types 3 SHORT, 4 LONG
         (256, 4, 1, width),          # ImageWidth
         (257, 4, 1, height),         # ImageLength
         (258, 3, 1, 8),              # BitsPerSample
-        (259, 3, 1, 1),              # Compression: none
+        (259, 3, 1, compression),    # Compression: 1 none, 8 deflate
         (262, 3, 1, 1),              # PhotometricInterpretation: min-is-black
         (273, 4, 1, data_offset),    # StripOffsets
         (277, 3, 1, 1),              # SamplesPerPixel
         (278, 4, 1, height),         # RowsPerStrip
-        (279, 4, 1, width * height),  # StripByteCounts
+        (279, 4, 1, data_bytes),     # StripByteCounts
     ]
     out = struct.pack("<H", len(entries))
     for tag, kind, count, value in entries:
@@ -29,9 +31,13 @@ def ifd(width, height, data_offset, next_ifd):
 
 
 def main():
-    if len(sys.argv) != 6:
+    arguments = sys.argv[1:]
+    deflate = "--deflate" in arguments
+    if deflate:
+        arguments.remove("--deflate")
+    if len(arguments) != 5:
         sys.exit(__doc__.strip())
-    source, width, height, depth, target = sys.argv[1], *map(int, sys.argv[2:5]), sys.argv[5]
+    source, width, height, depth, target = arguments[0], *map(int, arguments[1:4]), arguments[4]
     page = width * height
     with open(source, "rb") as f:
         volume = f.read()
@@ -42,11 +48,14 @@ def main():
         out.write(b"II*\0" + struct.pack("<I", 8))
         offset = 8
         for z in range(depth):
+            data = volume[z * page:(z + 1) * page]
+            if deflate:
+                data = zlib.compress(data, 6)
             data_offset = offset + ifd_bytes
-            next_ifd = data_offset + page if z + 1 < depth else 0
-            out.write(ifd(width, height, data_offset, next_ifd))
-            out.write(volume[z * page:(z + 1) * page])
-            offset = data_offset + page
+            next_ifd = data_offset + len(data) + len(data) % 2 if z + 1 < depth else 0
+            out.write(ifd(width, height, 8 if deflate else 1, data_offset, len(data), next_ifd))
+            out.write(data + b"\0" * (len(data) % 2))
+            offset = data_offset + len(data) + len(data) % 2
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@
 #include "support/command_runner.h"
 #include "support/file_io.h"
 #include "support/slab_run_checks.h"
+#include "support/tiff_bytes.h"
 
 namespace mvox {
 namespace {
@@ -67,7 +68,7 @@ TEST(MpiRanks, EveryFormatAndOptionIsTheSameBytesAsOneProcess) {
   EXPECT_EQ(dir.entries(), sorted) << "a part or a temporary was left behind";
 }
 
-TEST(MpiRanks, ImageStacksRawSlicesAndMetaImageAreTheSameBytesToo) {
+TEST(MpiRanks, ImageStacksRawSlicesMetaImageAndTiffAreTheSameBytesToo) {
   test::ScratchDirectory dir;
   ASSERT_EQ(run_mvox("phantom blobs -o stack --size 40x36x30 -q", dir.path()).exit_code, 0);
   expect_same_for_any_ranks(dir, "stack", "ply", "-t 100 --normals");
@@ -81,6 +82,13 @@ TEST(MpiRanks, ImageStacksRawSlicesAndMetaImageAreTheSameBytesToo) {
                     std::string("ObjectType = Image\nNDims = 3\nDimSize = 30 20 17\n"
                                 "ElementType = MET_UCHAR\nElementDataFile = volume.raw\n"));
   expect_same_for_any_ranks(dir, "volume.mhd", "ply", "-t 128 --normals");
+  // The same volume as a TIFF stack of two files, uncompressed and deflate.
+  const std::string volume = test::read_bytes(dir.path() / "volume.raw");
+  test::write_bytes(dir / "tiff/a.tif",
+                    test::tiff_file_bytes(test::tiff_pages_of(volume, 30, 20, 0, 6, false)));
+  test::write_bytes(dir / "tiff/b.tif",
+                    test::tiff_file_bytes(test::tiff_pages_of(volume, 30, 20, 6, 11, true, 7)));
+  expect_same_for_any_ranks(dir, "tiff", "ply", "-t 128 --normals");
 }
 
 // Each rank draws its slab into a layer; one reduction over the ranks keeps the nearest
@@ -90,8 +98,11 @@ TEST(MpiRanks, ThePictureIsTheSameBytesAsOneProcess) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 41 * 23 * 37, 9);
   const std::string input = "noise.raw --raw 41x23x37:u8 -t 128 -q ";
-  const char* cases[] = {"", "--view 0 -60", "--view 200 -30 --flat --image-size 97x61",
-                         "-o m.ply --normals --view 120 10", "-o m.stl --view 0 89",
+  const char* cases[] = {"",
+                         "--view 0 -60",
+                         "--view 200 -30 --flat --image-size 97x61",
+                         "-o m.ply --normals --view 120 10",
+                         "-o m.stl --view 0 89",
                          "--cut 0.4 --view 20 30"};
   for (const char* options : cases) {
     SCOPED_TRACE(options);

@@ -15,6 +15,7 @@
 #include "support/command_runner.h"
 #include "support/file_io.h"
 #include "support/slab_run_checks.h"
+#include "support/tiff_bytes.h"
 
 namespace mvox {
 namespace {
@@ -193,8 +194,8 @@ TEST(SlabThreads, TheDefaultIsOneWorkerPerCoreForLargeVolumes) {
 }
 
 // Files are read by each worker for its own slabs (stacks of images or raw slices, a raw volume
-// file); a pipe is read once by one thread and fanned out. Both give the bytes one thread
-// writes.
+// file, NRRD, MetaImage, TIFF stacks); a pipe is read once by one thread and fanned out. Both give
+// the bytes one thread writes.
 TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
   test::ScratchDirectory dir;
   ASSERT_EQ(run_mvox("phantom blobs -o stack --size 30x20x33 -q", dir.path()).exit_code, 0);
@@ -213,6 +214,12 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
   test::write_bytes(
       dir / "noise.nrrd",
       "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 19 13 29\nencoding: raw\n\n" + noise);
+  // A TIFF stack in two files, uncompressed and deflate: read by each worker too, from the
+  // page its range starts at.
+  test::write_bytes(dir / "tiff/a.tif",
+                    test::tiff_file_bytes(test::tiff_pages_of(noise, 19, 13, 0, 11, false)));
+  test::write_bytes(dir / "tiff/b.tif",
+                    test::tiff_file_bytes(test::tiff_pages_of(noise, 19, 13, 11, 18, true, 5)));
   const std::string inputs[] = {
       "stack -t 100",
       "stack -t 100 --normals",
@@ -220,6 +227,7 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
       "noise.raw --raw 19x13x29:u8 -t 128 --normals",
       "noise.mhd -t 128 --normals",
       "noise.nrrd -t 128",
+      "tiff -t 128 --normals",
   };
   for (const std::string& input : inputs) {
     for (const bool piped : {false, true}) {

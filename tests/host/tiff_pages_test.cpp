@@ -8,10 +8,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "command_runner.h"
@@ -142,6 +144,43 @@ TEST(TiffStack, SeveralFilesAreConcatenatedInNaturalOrder) {
   VolumeInfo info;
   EXPECT_EQ(read_stack<std::int16_t>({dir / "parts"}, &info), samples);
   EXPECT_EQ(info.depth, kDepth);
+}
+
+TEST(TiffStack, EveryRangeReadsItsSlicesOfTheWholeStack) {
+  // Three files of three layouts, one decoded by libtiff (LZW), the last one of 40 pages (a
+  // range starts from the directory of page 0, 16 or 32 of a file): ranges start at a file's
+  // first page, inside a file and in the last one, and end anywhere, as slab workers ask.
+  const std::uint32_t depth = 2 * kDepth + 40;
+  const std::vector<std::uint16_t> samples =
+      test::phantom_samples<std::uint16_t>(kWidth, kHeight, depth);
+  ScratchDirectory dir;
+  fs::create_directories(dir / "parts");
+  write_stack(dir / "parts/a.tif", samples, kWidth, kHeight, 0, kDepth, kLayouts[0]);
+  write_stack(dir / "parts/b.tif", samples, kWidth, kHeight, kDepth, kDepth, kLayouts[3]);
+  write_stack(dir / "parts/c.tif", samples, kWidth, kHeight, 2 * kDepth, 40, kLayouts[1]);
+  const std::vector<std::string> files = {dir / "parts/a.tif", dir / "parts/b.tif",
+                                          dir / "parts/c.tif"};
+  const TiffStackSource whole(files);
+  ASSERT_TRUE(whole.range_readable());
+  const std::size_t slice = std::size_t{kWidth} * kHeight;
+  const std::uint32_t c = 2 * kDepth;  // the first page of c.tif
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> ranges = {
+      {0, depth},     {0, 3},           {3, 11},          {kDepth, kDepth + 1}, {kDepth + 2, c + 4},
+      {c + 1, depth}, {c + 15, c + 17}, {c + 16, c + 20}, {c + 31, depth},      {c + 39, depth}};
+  for (const auto& [first, end] : ranges) {
+    SCOPED_TRACE(std::to_string(first) + " to " + std::to_string(end));
+    std::unique_ptr<SliceSource> range = whole.open_range(first, end);
+    EXPECT_EQ(range->info().depth, depth);
+    const std::vector<std::uint16_t> expected(samples.begin() + first * slice,
+                                              samples.begin() + end * slice);
+    std::vector<std::uint16_t> read;
+    SliceView view;
+    while (range->next_slice(&view)) {
+      const auto* at = static_cast<const std::uint16_t*>(view.samples);
+      read.insert(read.end(), at, at + slice);  // rows packed: row_stride_bytes is the row's
+    }
+    EXPECT_EQ(read, expected);
+  }
 }
 
 TEST(TiffStack, ImageJSpacingIsUsedOtherResolutionsAreNot) {

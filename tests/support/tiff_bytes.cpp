@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <utility>
 
 #include "deflate.h"
@@ -150,6 +151,26 @@ std::size_t tiff_entry_offset(const std::vector<unsigned char>& bytes, int page,
 void rename_tiff_tag(std::vector<unsigned char>& bytes, int page, std::uint16_t tag,
                      std::uint16_t new_tag) {
   put_u16(bytes, tiff_entry_offset(bytes, page, tag), new_tag);
+}
+
+std::vector<TiffPageBytes> tiff_pages_of(const std::string& samples, std::uint32_t width,
+                                         std::uint32_t height, std::uint32_t first,
+                                         std::uint32_t count, bool deflate,
+                                         std::uint32_t rows_per_strip) {
+  std::vector<TiffPageBytes> pages;
+  const std::size_t slice = std::size_t{width} * height;
+  const std::uint32_t rows = rows_per_strip == 0 ? height : rows_per_strip;
+  for (std::uint32_t z = first; z < first + count; ++z) {
+    TiffPageBytes page{width, height, 8, std::uint16_t(deflate ? 8 : 1), rows, 0, 0, {}};
+    for (std::uint32_t y = 0; y < height; y += rows) {
+      const std::size_t at = z * slice + std::size_t{y} * width;
+      const std::size_t bytes = std::size_t{width} * std::min(rows, height - y);
+      std::vector<unsigned char> strip(samples.begin() + at, samples.begin() + at + bytes);
+      page.chunks.push_back(deflate ? zlib_compressed(strip) : strip);
+    }
+    pages.push_back(page);
+  }
+  return pages;
 }
 
 }  // namespace mvox::test

@@ -4,6 +4,7 @@
 // its data, strips whose stored bytes are damaged.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace mvox::test {
@@ -34,6 +35,13 @@ std::size_t tiff_next_link(const std::vector<unsigned char>& bytes, int page);
 std::size_t tiff_entry_offset(const std::vector<unsigned char>& bytes, int page, std::uint16_t tag);
 void rename_tiff_tag(std::vector<unsigned char>& bytes, int page, std::uint16_t tag,
                      std::uint16_t new_tag);
+
+// The 8-bit slices of `samples` (width x height each), from slice `first` on, `count` of them,
+// as TIFF pages: uncompressed in one strip, or deflate in strips of `rows_per_strip` rows.
+std::vector<TiffPageBytes> tiff_pages_of(const std::string& samples, std::uint32_t width,
+                                         std::uint32_t height, std::uint32_t first,
+                                         std::uint32_t count, bool deflate,
+                                         std::uint32_t rows_per_strip = 0);
 
 // `bytes` as one zlib stream (TIFF's deflate compression).
 std::vector<unsigned char> zlib_compressed(const std::vector<unsigned char>& bytes);

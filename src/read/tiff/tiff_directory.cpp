@@ -213,6 +213,15 @@ bool TiffDirectoryReader::next(TiffDirectory* page) {
   return true;
 }
 
+void TiffDirectoryReader::go_to_directory(std::uint64_t offset, std::uint64_t pages_before) {
+  next_directory_ = offset;
+  pages_read_ = pages_before;
+  // Loops are looked for afresh from here.
+  kept_directory_ = 0;
+  directories_until_kept_ = 1;
+  keep_every_ = 1;
+}
+
 void TiffDirectoryReader::read_at(std::uint64_t offset, unsigned char* out, std::size_t bytes) {
   file_->read_at(offset, out, bytes);
 }

@@ -71,6 +71,11 @@ class TiffDirectoryReader {
 
   // Reads the next page's directory into `page`: false after the last one.
   bool next(TiffDirectory* page);
+  // Where the directory next() reads is (0 after the last one), and going on from one such
+  // place, as found by an earlier reader of the same file: to start at a page without reading
+  // the directories before it. `pages_before` is that page's 0-based number, for messages.
+  std::uint64_t next_directory() const { return next_directory_; }
+  void go_to_directory(std::uint64_t offset, std::uint64_t pages_before);
 
   // Reads exactly `bytes` bytes at `offset` (a strip or tile, inside the file as checked).
   void read_at(std::uint64_t offset, unsigned char* out, std::size_t bytes);

@@ -366,8 +366,35 @@ TiffStackSource::TiffStackSource(std::vector<std::string> files) : files_(std::m
     throw Error("INPUT", "more than 2^32-1 TIFF pages");
   }
   info_.depth = static_cast<std::uint32_t>(pages);
+  end_index_ = info_.depth;
   // No buffer yet: they come with the first slice (next_slice), after every directory has
   // been checked, and so after every refusal that needs no decoding.
+}
+
+TiffStackSource::TiffStackSource(const TiffStackSource& whole, std::uint32_t first,
+                                 std::uint32_t end)
+    : files_(whole.files_),
+      pages_per_file_(whole.pages_per_file_),
+      directory_marks_(whole.directory_marks_),
+      info_(whole.info_),
+      largest_tile_(whole.largest_tile_),
+      largest_deflate_chunk_(whole.largest_deflate_chunk_),
+      largest_libtiff_chunk_(whole.largest_libtiff_chunk_),
+      largest_chunk_count_(whole.largest_chunk_count_),
+      next_index_(first),
+      end_index_(std::min(end, whole.info_.depth)) {
+  // The file holding slice `first`, and its page there; next_slice walks up to it.
+  std::uint64_t page = first;
+  while (file_index_ < pages_per_file_.size() && page >= pages_per_file_[file_index_]) {
+    page -= pages_per_file_[file_index_];
+    ++file_index_;
+  }
+  page_in_file_ = page;
+}
+
+std::unique_ptr<SliceSource> TiffStackSource::open_range(std::uint32_t first,
+                                                         std::uint32_t end) const {
+  return std::unique_ptr<SliceSource>(new TiffStackSource(*this, first, end));
 }
 
 std::uint64_t TiffStackSource::working_bytes() const {
@@ -391,7 +418,10 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
   std::unique_ptr<TiffFile> libtiff;  // opened at the first page that libtiff decodes
   std::uint64_t libtiff_page = 0;
   std::uint64_t page = 0;
-  while (reader.next(&tags)) {
+  std::vector<std::uint64_t> marks;
+  for (;;) {
+    if (page % kPagesPerMark == 0) marks.push_back(reader.next_directory());
+    if (!reader.next(&tags)) break;
     const PageFormat format = page_format(tags, path, page);
     if (file_index == 0 && page == 0) {
       info_.width = format.width;
@@ -426,6 +456,7 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
     ++page;
   }
   pages_per_file_.push_back(page);
+  directory_marks_->push_back(std::move(marks));
   *pages += page;
 }
 
@@ -547,19 +578,27 @@ void TiffStackSource::read_page(ReadBuffer& buffer) {
 }
 
 bool TiffStackSource::next_slice(SliceView* slice) {
-  if (next_index_ >= info_.depth) return false;
+  if (next_index_ >= end_index_) return false;
   if (open_ && page_in_file_ >= pages_per_file_[file_index_]) {
     open_.reset();
     libtiff_.reset();
     ++file_index_;
-  }
-  if (!open_) {
-    open_ = std::make_unique<TiffDirectoryReader>(files_[file_index_]);
     page_in_file_ = 0;
   }
-  if (!open_->next(&page_)) {
-    throw Error(open_->path(), page_subject(page_in_file_) + " is gone since the stack was opened");
+  const auto gone = [&](std::uint64_t page) {
+    return Error(open_->path(), page_subject(page) + " is gone since the stack was opened");
+  };
+  if (!open_) {
+    open_ = std::make_unique<TiffDirectoryReader>(files_[file_index_]);
+    // A range may start inside the file: from the mark before its first page, the directories
+    // are walked up to it.
+    const std::uint64_t mark = page_in_file_ / kPagesPerMark;
+    open_->go_to_directory((*directory_marks_)[file_index_][mark], mark * kPagesPerMark);
+    for (std::uint64_t page = mark * kPagesPerMark; page < page_in_file_; ++page) {
+      if (!open_->next(&page_)) throw gone(page);
+    }
   }
+  if (!open_->next(&page_)) throw gone(page_in_file_);
   // Checked again while streaming: the file may have changed since the constructor looked.
   const PageFormat format = page_format(page_, open_->path(), page_in_file_);
   if (!same_format(format, PageFormat{info_.width, info_.height, info_.type}) ||

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mvox/slice_source.h"
+#include "read/range_readable.h"
 #include "read/read_buffer.h"
 #include "read/tiff/tiff_directory.h"
 #include "read/zlib_stream_check.h"
@@ -47,7 +48,9 @@ class TiffFile;
 // working_bytes(), an upper bound known from the directories.
 // Throws mvox::Error naming the file (and page) for every problem, including decoding errors
 // met while streaming and allocations that fail (naming the bytes asked for).
-class TiffStackSource : public SliceSource {
+// A file is read anywhere (RangeReadable): each slab worker opens its own files and walks
+// the directories up to its first page, so that decoding runs in parallel too.
+class TiffStackSource : public SliceSource, public RangeReadable {
  public:
   explicit TiffStackSource(std::vector<std::string> files);
   ~TiffStackSource() override;
@@ -60,7 +63,12 @@ class TiffStackSource : public SliceSource {
   // and its copy of a directory) is not counted.
   std::uint64_t working_bytes() const override;
 
+  bool range_readable() const override { return true; }
+  std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
+
  private:
+  // A source of slices [first, end) of `whole`'s stack, which has walked every directory.
+  TiffStackSource(const TiffStackSource& whole, std::uint32_t first, std::uint32_t end);
   void check_file(std::size_t file_index, std::uint64_t* pages);
   void read_page(ReadBuffer& buffer);
   // Decodes strip or tile `index` of the current page, rows of `row_samples` samples, into
@@ -74,6 +82,13 @@ class TiffStackSource : public SliceSource {
 
   std::vector<std::string> files_;
   std::vector<std::uint64_t> pages_per_file_;  // counted by the constructor
+  // Where the directory of every kPagesPerMark-th page of each file is (file by file, from
+  // page 0): a range starts there and reads at most kPagesPerMark - 1 directories before its
+  // first page, instead of every directory before it. 8 bytes per 16 pages, shared by the
+  // ranges.
+  static constexpr std::uint64_t kPagesPerMark = 16;
+  using DirectoryMarks = std::vector<std::vector<std::uint64_t>>;
+  std::shared_ptr<DirectoryMarks> directory_marks_ = std::make_shared<DirectoryMarks>();
   VolumeInfo info_;
   ReadBuffer buffer_;  // the current slice, native order; from the first slice
   ReadBuffer tile_;    // one decoded tile of a tiled page
@@ -91,6 +106,7 @@ class TiffStackSource : public SliceSource {
   std::size_t file_index_ = 0;         // of open_
   std::uint64_t page_in_file_ = 0;     // 0-based page of open_ that next_slice reads (next)
   std::uint32_t next_index_ = 0;       // slice of the stack that next_slice returns next
+  std::uint32_t end_index_ = 0;        // one past the last slice it returns (depth, or a range's)
 };
 
 // True when `path` ends in .tif or .tiff, case-insensitive.
