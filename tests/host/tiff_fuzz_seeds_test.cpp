@@ -2,8 +2,9 @@
 // reader's tests write (striped, one row a strip with deflate, tiled, tiled with LZW), in 8 and
 // 16 bits, plus deflate with the horizontal and floating-point predictors, a big-endian BigTIFF
 // and a big-endian file whose bits are stored least significant first (mvox's own directory
-// reading and byte and bit orders). MVOX_WRITE_FUZZ_SEEDS=DIR writes them
-// into DIR; the test checks that each committed seed still reads as the samples it was made of.
+// reading and byte and bit orders), and a stack of 40 small pages. MVOX_WRITE_FUZZ_SEEDS=DIR writes
+// them into DIR; the test checks that each committed seed still reads as the samples it was made
+// of.
 #include <tiffio.h>
 
 #include <cctype>
@@ -34,12 +35,14 @@ constexpr std::uint32_t kSeedWidth = 21, kSeedHeight = 18, kSeedDepth = 2;
 // committed copy of it reads back as those samples.
 template <typename T>
 void check_seed(const std::string& name, const Layout& layout,
-                const std::function<void(TIFF*)>& extra = {}, const char* mode = "w") {
+                const std::function<void(TIFF*)>& extra = {}, const char* mode = "w",
+                std::uint32_t width = kSeedWidth, std::uint32_t height = kSeedHeight,
+                std::uint32_t depth = kSeedDepth) {
   SCOPED_TRACE(name);
-  const std::vector<T> samples = test::phantom_samples<T>(kSeedWidth, kSeedHeight, kSeedDepth);
+  const std::vector<T> samples = test::phantom_samples<T>(width, height, depth);
   if (const char* write_to = std::getenv("MVOX_WRITE_FUZZ_SEEDS")) {
-    write_stack((fs::path(write_to) / name).string(), samples, kSeedWidth, kSeedHeight, 0,
-                kSeedDepth, layout, extra, mode);
+    write_stack((fs::path(write_to) / name).string(), samples, width, height, 0, depth, layout,
+                extra, mode);
   }
   const fs::path committed = fs::path(MVOX_FUZZ_CORPUS) / "tiff_stack_fuzzer" / name;
   ASSERT_TRUE(fs::exists(committed)) << committed << " is missing";
@@ -70,6 +73,9 @@ TEST(TiffFuzzSeeds, EveryCommittedSeedReadsAsTheSamplesItWasMadeOf) {
   check_seed<std::uint16_t>(
       "u16_big_endian_fill_order_2.tif", test::tiff_stack_files::kLayouts[0],
       [](TIFF* tiff) { TIFFSetField(tiff, TIFFTAG_FILLORDER, FILLORDER_LSB2MSB); }, "wb");
+  // 40 small pages: the fuzzer's second range starts past page 16, from a marked directory.
+  check_seed<std::uint8_t>("u8_40_small_pages.tif", test::tiff_stack_files::kLayouts[0], {}, "w", 6,
+                           5, 40);
 }
 
 }  // namespace

@@ -108,6 +108,9 @@ const char* tag_name(std::uint16_t tag) {
     case kCompression: return "Compression";
     case kPhotometric: return "PhotometricInterpretation";
     case kFillOrder: return "FillOrder";
+    case kImageDescription: return "ImageDescription";
+    case kXResolution: return "XResolution";
+    case kYResolution: return "YResolution";
     case kSamplesPerPixel: return "SamplesPerPixel";
     case kRowsPerStrip: return "RowsPerStrip";
     case kPredictor: return "Predictor";
@@ -118,7 +121,7 @@ const char* tag_name(std::uint16_t tag) {
     case kStripByteCounts: return "StripByteCounts";
     case kTileOffsets: return "TileOffsets";
     case kTileByteCounts: return "TileByteCounts";
-    default: return "a tag";
+    default: return "tag";  // never asked: only the tags above are read
   }
 }
 
