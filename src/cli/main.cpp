@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <new>
 #include <stdexcept>
+#include <string>
 
 #include "cli/allocation_failure.h"
 #include "cli/commands.h"
@@ -44,10 +45,22 @@ int main(int argc, char** argv) {
       "mvox"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "mvox 0.1.0");
-  mvox::add_extract_command(app);
-  mvox::add_demo_command(app);
-  mvox::add_phantom_command(app);
-  mvox::add_render_command(app);
+  // Building a command's options costs more than most runs' own start-up (CLI11 makes an
+  // object, names and checks for each): a run that names its command builds that one alone;
+  // `mvox --help`, `--version` and a mistyped command build them all.
+  const std::string named = argc > 1 ? argv[1] : "";
+  const struct {
+    const char* name;
+    void (*add)(CLI::App&);
+  } commands[] = {{"extract", [](CLI::App& a) { mvox::add_extract_command(a); }},
+                  {"demo", mvox::add_demo_command},
+                  {"phantom", mvox::add_phantom_command},
+                  {"render", mvox::add_render_command}};
+  bool one = false;
+  for (const auto& command : commands) one = one || named == command.name;
+  for (const auto& command : commands) {
+    if (!one || named == command.name) command.add(app);
+  }
 
   try {
     app.parse(argc, argv);
