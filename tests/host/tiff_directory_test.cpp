@@ -148,6 +148,27 @@ TEST(TiffDirectory, DirectoriesLongerThanTheFirstReadAreReadWhole) {
             std::vector<std::uint8_t>(samples.begin(), samples.end()));
 }
 
+TEST(TiffDirectory, ADamagedDescriptionOrResolutionReadsAsAbsent) {
+  // An ImageDescription whose text lies past the end of the file, and an XResolution of a
+  // negative integer: libtiff reads the page without them, and so does mvox.
+  ScratchDirectory dir;
+  const std::vector<unsigned char> samples(12 * 10, 9);
+  std::vector<unsigned char> bytes =
+      test::tiff_file_bytes({{12, 10, 8, COMPRESSION_NONE, 0, 0, 0, {samples}}});
+  const std::size_t photometric = test::tiff_entry_offset(bytes, 0, TIFFTAG_PHOTOMETRIC);
+  test::put_tiff_u16(bytes, photometric, TIFFTAG_IMAGEDESCRIPTION);
+  test::put_tiff_u16(bytes, photometric + 2, 2);  // ASCII
+  test::put_tiff_u32(bytes, photometric + 4, 100);
+  test::put_tiff_u32(bytes, photometric + 8, 0xfffffff0u);
+  const std::size_t samples_per_pixel = test::tiff_entry_offset(bytes, 0, TIFFTAG_SAMPLESPERPIXEL);
+  test::put_tiff_u16(bytes, samples_per_pixel, TIFFTAG_XRESOLUTION);
+  test::put_tiff_u16(bytes, samples_per_pixel + 2, 9);  // SLONG
+  test::put_tiff_u32(bytes, samples_per_pixel + 8, 0xfffffff8u);
+  test::write_bytes(dir / "damaged.tif", bytes);
+  EXPECT_EQ(read_stack<std::uint8_t>({dir / "damaged.tif"}),
+            std::vector<std::uint8_t>(samples.begin(), samples.end()));
+}
+
 TEST(TiffDirectory, ATagsLaterEntriesAreIgnoredAsLibtiffIgnoresThem) {
   // A deflate page whose PhotometricInterpretation entry is made a second Compression entry,
   // saying "uncompressed": the first one holds.
@@ -262,6 +283,13 @@ TEST(TiffDirectory, BrokenHeadersAndDirectoriesAreRefusedNamingThePage) {
   test::put_tiff_u32(bytes, width + 8, 0xfffffff8u);
   EXPECT_EQ(refusal(bytes),
             "cannot read the directory of page 1: its ImageWidth holds a negative value");
+
+  // 1x1 tiles on a 65536x65537 image: more tiles than 32-bit tile numbers (libtiff's too) reach.
+  bytes = test::tiff_file_bytes(
+      {{65536, 65537, 8, COMPRESSION_NONE, 0, 1, 1, {std::vector<unsigned char>(1, 1)}}});
+  EXPECT_EQ(refusal(bytes),
+            "cannot read the directory of page 1: it would have 4295032832 tiles, more than "
+            "2^32-1");
 
   // Compressed data need their byte counts.
   test::TiffPageBytes deflate = page;

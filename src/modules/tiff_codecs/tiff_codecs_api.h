@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 // Bumped whenever a signature or a contract below changes.
-#define MVOX_TIFF_CODECS_API_VERSION 2
+#define MVOX_TIFF_CODECS_API_VERSION 3
 
 // An open TIFF file with its current directory (page), and the first error libtiff reported
 // on it since the last mvox_tiff_take_error(). libtiff's warnings are dropped (unknown tags are
@@ -75,6 +75,11 @@ MVOX_TIFF_CODECS_EXPORT void mvox_tiff_take_error(mvox_tiff* tiff, char* error, 
 // Moves to the next directory: 1 when read; 0 after the last one, or when it cannot be read
 // (then an error is reported, see mvox_tiff_take_error).
 MVOX_TIFF_CODECS_EXPORT int mvox_tiff_read_directory(mvox_tiff* tiff);
+
+// Reads the directory at byte `offset` of the file (one the reader found itself), so that a
+// slab worker starting inside a stack need not read every directory before it: 1 when read, 0
+// when not (then an error is reported).
+MVOX_TIFF_CODECS_EXPORT int mvox_tiff_read_directory_at(mvox_tiff* tiff, uint64_t offset);
 
 MVOX_TIFF_CODECS_EXPORT void mvox_tiff_page_tags(mvox_tiff* tiff, mvox_tiff_page* page);
 

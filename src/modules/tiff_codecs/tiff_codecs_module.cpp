@@ -85,6 +85,10 @@ void mvox_tiff_take_error(mvox_tiff* tiff, char* error, size_t error_bytes) {
 
 int mvox_tiff_read_directory(mvox_tiff* tiff) { return TIFFReadDirectory(tiff->handle); }
 
+int mvox_tiff_read_directory_at(mvox_tiff* tiff, uint64_t offset) {
+  return TIFFSetSubDirectory(tiff->handle, offset);
+}
+
 void mvox_tiff_page_tags(mvox_tiff* tiff, mvox_tiff_page* page) {
   TIFF* t = tiff->handle;
   *page = mvox_tiff_page{};

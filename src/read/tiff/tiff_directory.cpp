@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <bitset>
+#include <cmath>
 #include <cstring>
 #include <limits>
+#include <new>
 
 #include "error.h"
 #include "read/raw_file.h"
@@ -211,7 +213,14 @@ std::uint64_t TiffDirectoryReader::unsigned_at(const unsigned char* at, unsigned
 
 bool TiffDirectoryReader::next(TiffDirectory* page) {
   if (next_directory_ == 0) return false;
-  read_directory(next_directory_, page);
+  directory_offset_ = next_directory_;
+  try {
+    read_directory(next_directory_, page);
+  } catch (const std::bad_alloc&) {
+    // Arrays of offsets and counts are as long as the file lets them be.
+    throw Error(path_,
+                "out of memory reading the directory of page " + std::to_string(pages_read_ + 1));
+  }
   ++pages_read_;
   return true;
 }
@@ -227,6 +236,13 @@ void TiffDirectoryReader::go_to_directory(std::uint64_t offset, std::uint64_t pa
 
 void TiffDirectoryReader::read_at(std::uint64_t offset, unsigned char* out, std::size_t bytes) {
   file_->read_at(offset, out, bytes);
+}
+
+bool TiffDirectoryReader::values_in_file(const Entry& entry) const {
+  if (entry.values_in_field()) return true;
+  const std::uint64_t bytes = entry.value_bytes();
+  return entry.offset <= file_bytes_ &&
+         file_bytes_ - entry.offset >= std::min<std::uint64_t>(bytes, kDescriptionBytes);
 }
 
 void TiffDirectoryReader::entry_bytes(const Entry& entry, std::uint64_t max_bytes,
@@ -305,13 +321,17 @@ float TiffDirectoryReader::rational(const Entry& entry, const std::string& where
       const std::uint64_t bits = unsigned_at(bytes.data(), 8);
       double value;
       std::memcpy(&value, &bits, sizeof value);
-      return static_cast<float>(value);
+      // Beyond float's range the conversion is undefined: such a resolution reads as absent.
+      return std::fabs(value) <= std::numeric_limits<float>::max() ? static_cast<float>(value)
+                                                                   : 0.0f;
     }
     default: {
+      // An integer; a negative one, or another type, reads as absent.
       if (!is_integer(entry.type)) return 0;
-      std::vector<std::uint64_t> values;
-      read_integers(entry, 1, &values, where);
-      return static_cast<float>(values[0]);
+      const unsigned size = type_bytes(entry.type);
+      const std::uint64_t value = unsigned_at(bytes.data(), size);
+      if (is_signed(entry.type) && (value >> (8 * size - 1)) != 0) return 0;
+      return static_cast<float>(value);
     }
   }
 }
@@ -428,9 +448,16 @@ void TiffDirectoryReader::read_directory(std::uint64_t offset, TiffDirectory* pa
         page->tile_height = static_cast<std::uint32_t>(integer(entry, k32, where));
         has_tile_size = true;
         break;
-      case kImageDescription: page->description = text(entry, where); break;
-      case kXResolution: page->x_resolution = rational(entry, where); break;
-      case kYResolution: page->y_resolution = rational(entry, where); break;
+      // Tags mvox could do without: damaged, they read as absent, as libtiff reads them.
+      case kImageDescription:
+        if (values_in_file(entry)) page->description = text(entry, where);
+        break;
+      case kXResolution:
+        if (values_in_file(entry)) page->x_resolution = rational(entry, where);
+        break;
+      case kYResolution:
+        if (values_in_file(entry)) page->y_resolution = rational(entry, where);
+        break;
       case kStripOffsets: offsets = entry; break;
       case kStripByteCounts: byte_counts = entry; break;
       case kTileOffsets: tile_offsets = entry; break;
@@ -449,6 +476,10 @@ void TiffDirectoryReader::read_directory(std::uint64_t offset, TiffDirectory* pa
   }
   const std::uint64_t chunks = tiff_chunk_count(*page);
   if (chunks == 0) return;  // an empty page or tile, which the stack refuses by its sizes
+  if (chunks > 0xffffffffu) {
+    throw Error(path_, where + ": it would have " + std::to_string(chunks) + " " +
+                           (page->tiled ? "tiles" : "strips") + ", more than 2^32-1");
+  }
   const char* chunk_kind = page->tiled ? "tile" : "strip";
   const std::string offsets_name = page->tiled ? "TileOffsets" : "StripOffsets";
   if (!offsets.present) throw Error(path_, where + ": it has no " + offsets_name);

@@ -7,8 +7,10 @@
 //
 // Only the tags the TIFF stack reader looks at are read; the others are skipped by their tag
 // number alone. What a directory says is checked only as far as reading it needs (entries and
-// arrays inside the file, no directory visited twice, offsets and byte counts for every strip
-// or tile); what a page may hold is the stack reader's to decide (tiff_stack_source.h).
+// arrays inside the file, directories that do not loop, offsets and byte counts for every
+// strip or tile); what a page may hold is the stack reader's to decide (tiff_stack_source.h).
+// ImageDescription and the resolutions, which mvox could do without, read as absent when
+// damaged, as libtiff reads them.
 // Memory: one directory and its strip or tile locations, whatever the number of pages.
 #include <cstdint>
 #include <memory>
@@ -75,6 +77,8 @@ class TiffDirectoryReader {
   // place, as found by an earlier reader of the same file: to start at a page without reading
   // the directories before it. `pages_before` is that page's 0-based number, for messages.
   std::uint64_t next_directory() const { return next_directory_; }
+  // Where the directory next() read last is.
+  std::uint64_t directory() const { return directory_offset_; }
   void go_to_directory(std::uint64_t offset, std::uint64_t pages_before);
 
   // Reads exactly `bytes` bytes at `offset` (a strip or tile, inside the file as checked).
@@ -88,6 +92,8 @@ class TiffDirectoryReader {
                      const std::string& where);
   float rational(const Entry& entry, const std::string& where);
   std::string text(const Entry& entry, const std::string& where);
+  // Whether `entry`'s values (the first 64 KiB of them) lie in the file.
+  bool values_in_file(const Entry& entry) const;
   // The bytes of `entry`'s values, at most `max_bytes` of them, checked to lie in the file.
   void entry_bytes(const Entry& entry, std::uint64_t max_bytes, std::vector<unsigned char>* out,
                    const std::string& where);
@@ -99,12 +105,14 @@ class TiffDirectoryReader {
   bool byte_swapped_ = false;
   bool big_endian_ = false;
   bool big_tiff_ = false;
-  std::uint64_t next_directory_ = 0;  // 0 after the last page
+  std::uint64_t next_directory_ = 0;    // 0 after the last page
+  std::uint64_t directory_offset_ = 0;  // of the page next() read last
   std::uint64_t pages_read_ = 0;
   // Directories that loop are found in fixed memory, whatever the number of pages, by Brent's
   // cycle detection: one directory offset is kept, and replaced by the current one after 1, 2,
-  // 4, 8, ... more directories; meeting it again is a loop. A loop is found at the latest
-  // after twice as many directories as the file has.
+  // 4, 8, ... more directories; meeting it again is a loop. A loop is found before about three
+  // times as many directories as the file has are read (a loop of three pages back to the
+  // first: at the sixth).
   std::uint64_t kept_directory_ = 0;
   std::uint64_t directories_until_kept_ = 1;
   std::uint64_t keep_every_ = 1;

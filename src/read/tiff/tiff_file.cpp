@@ -13,6 +13,7 @@ struct TiffCodecsApi {
   decltype(&mvox_tiff_close) close = nullptr;
   decltype(&mvox_tiff_take_error) take_error = nullptr;
   decltype(&mvox_tiff_read_directory) read_directory = nullptr;
+  decltype(&mvox_tiff_read_directory_at) read_directory_at = nullptr;
   decltype(&mvox_tiff_page_tags) page_tags = nullptr;
   decltype(&mvox_tiff_chunk_location) chunk_location = nullptr;
   decltype(&mvox_tiff_read_chunk) read_chunk = nullptr;
@@ -39,6 +40,7 @@ const TiffCodecsApi& api(const std::string& subject) {
         resolve("mvox_tiff_close", &f.close);
         resolve("mvox_tiff_take_error", &f.take_error);
         resolve("mvox_tiff_read_directory", &f.read_directory);
+        resolve("mvox_tiff_read_directory_at", &f.read_directory_at);
         resolve("mvox_tiff_page_tags", &f.page_tags);
         resolve("mvox_tiff_chunk_location", &f.chunk_location);
         resolve("mvox_tiff_read_chunk", &f.read_chunk);
@@ -85,6 +87,10 @@ std::string TiffFile::take_error() {
 }
 
 bool TiffFile::read_directory() { return api_->read_directory(handle_) != 0; }
+
+bool TiffFile::read_directory_at(std::uint64_t offset) {
+  return api_->read_directory_at(handle_, offset) != 0;
+}
 
 mvox_tiff_page TiffFile::tags() {
   mvox_tiff_page page;

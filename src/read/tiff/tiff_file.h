@@ -32,6 +32,8 @@ class TiffFile {
   // Moves to the next page: false after the last one or when its directory cannot be read
   // (then take_error() says why).
   bool read_directory();
+  // Moves to the page whose directory is at byte `offset`: false when it cannot be read.
+  bool read_directory_at(std::uint64_t offset);
   mvox_tiff_page tags();
   // The stored place of strip or tile `index` of the current page; false when unknown.
   bool chunk_location(std::uint32_t index, std::uint64_t* offset, std::uint64_t* bytes);

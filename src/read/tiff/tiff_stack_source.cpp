@@ -319,18 +319,22 @@ void read_imagej_spacing(const TiffDirectory& tags, VolumeInfo& info) {
   }
 }
 
-// Moves `libtiff`, at page *at (0-based), on to page `page_index`, whose directory mvox read as
-// `ours`, and checks that libtiff reads it the same: libtiff decodes by its own reading.
+// Moves `libtiff`, at page *at (0-based), on to page `page_index`, whose directory mvox read
+// at byte `directory` as `ours`, and checks that libtiff reads it the same: libtiff decodes by
+// its own reading. The next page is libtiff's next directory; a page further on (a slab
+// worker's first) is read at its offset, not after every directory before it.
 void move_libtiff_to(TiffFile& libtiff, std::uint64_t* at, std::uint64_t page_index,
-                     const TiffDirectory& ours, bool byte_swapped) {
+                     std::uint64_t directory, const TiffDirectory& ours, bool byte_swapped) {
   const std::string page = page_subject(page_index);
-  while (*at < page_index) {
+  if (*at != page_index) {
     libtiff.take_error();
-    if (!libtiff.read_directory()) {
+    const bool read =
+        page_index == *at + 1 ? libtiff.read_directory() : libtiff.read_directory_at(directory);
+    if (!read) {
       throw Error(libtiff.path(),
                   "libtiff cannot read the directory of " + page + libtiff.take_error());
     }
-    ++*at;
+    *at = page_index;
   }
   const mvox_tiff_page theirs = libtiff.tags();
   bool same = theirs.width == ours.width && theirs.height == ours.height &&
@@ -348,7 +352,8 @@ void move_libtiff_to(TiffFile& libtiff, std::uint64_t* at, std::uint64_t page_in
   }
   for (std::uint32_t i = 0; same && i < theirs.chunks; ++i) {
     std::uint64_t offset = 0, bytes = 0;
-    same = libtiff.chunk_location(i, &offset, &bytes) && offset == ours.chunk_offsets[i];
+    same = libtiff.chunk_location(i, &offset, &bytes) && offset == ours.chunk_offsets[i] &&
+           bytes == ours.chunk_bytes[i];
   }
   if (!same) {
     throw Error(libtiff.path(),
@@ -444,7 +449,8 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
     // reads otherwise is refused before any slice is read.
     if (decoded_by_libtiff(tags)) {
       if (!libtiff) libtiff = std::make_unique<TiffFile>(path);
-      move_libtiff_to(*libtiff, &libtiff_page, page, tags, reader.byte_swapped());
+      move_libtiff_to(*libtiff, &libtiff_page, page, reader.directory(), tags,
+                      reader.byte_swapped());
     }
     largest_tile_ = std::max(largest_tile_, buffers.tile);
     largest_chunk_count_ = std::max<std::uint64_t>(largest_chunk_count_, tags.chunk_offsets.size());
@@ -466,7 +472,8 @@ void TiffStackSource::position_libtiff() {
     libtiff_ = std::make_unique<TiffFile>(path);
     libtiff_page_ = 0;
   }
-  move_libtiff_to(*libtiff_, &libtiff_page_, page_in_file_, page_, open_->byte_swapped());
+  move_libtiff_to(*libtiff_, &libtiff_page_, page_in_file_, open_->directory(), page_,
+                  open_->byte_swapped());
   // When libtiff decodes deflate (the floating-point predictor), it must not use libdeflate,
   // which can leave the end of a strip unwritten (tiff_codecs_api.h).
   if (is_deflate(page_.compression) && !libtiff_->inflate_with_zlib()) {
@@ -545,9 +552,11 @@ void TiffStackSource::read_page(ReadBuffer& buffer) {
 
   if (!page_.tiled) {
     const std::uint32_t rows_per_strip = page_.strip_rows();
-    for (std::uint32_t row = 0; row < info_.height; row += rows_per_strip) {
-      const std::uint32_t rows = std::min(rows_per_strip, info_.height - row);
-      read_chunk(page_.chunk_at(0, row), buffer.data() + row * row_bytes, rows * row_bytes,
+    // 64-bit counters: a strip's rows added to a row past 2^31 must not wrap round.
+    for (std::uint64_t row = 0; row < info_.height; row += rows_per_strip) {
+      const std::uint64_t rows = std::min<std::uint64_t>(rows_per_strip, info_.height - row);
+      read_chunk(page_.chunk_at(0, static_cast<std::uint32_t>(row)),
+                 buffer.data() + row * row_bytes, static_cast<std::size_t>(rows * row_bytes),
                  info_.width);
     }
     return;
@@ -562,14 +571,15 @@ void TiffStackSource::read_page(ReadBuffer& buffer) {
   }
   grow_buffer(tile_, tile_bytes, open_->path(),
               "a " + std::to_string(tile_width) + "x" + std::to_string(tile_height) + " tile");
-  for (std::uint32_t y = 0; y < info_.height; y += tile_height) {
-    for (std::uint32_t x = 0; x < info_.width; x += tile_width) {
-      read_chunk(page_.chunk_at(x, y), tile_.data(), static_cast<std::size_t>(tile_bytes),
-                 tile_width);
+  for (std::uint64_t y = 0; y < info_.height; y += tile_height) {
+    for (std::uint64_t x = 0; x < info_.width; x += tile_width) {
+      read_chunk(page_.chunk_at(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)),
+                 tile_.data(), static_cast<std::size_t>(tile_bytes), tile_width);
       // Tiles on the right and bottom edges reach past the image; only their inside is copied.
-      const std::uint32_t rows = std::min(tile_height, info_.height - y);
-      const std::size_t copy_bytes = std::min(tile_width, info_.width - x) * bytes_per_sample;
-      for (std::uint32_t r = 0; r < rows; ++r) {
+      const std::uint64_t rows = std::min<std::uint64_t>(tile_height, info_.height - y);
+      const std::size_t copy_bytes = static_cast<std::size_t>(
+          std::min<std::uint64_t>(tile_width, info_.width - x) * bytes_per_sample);
+      for (std::uint64_t r = 0; r < rows; ++r) {
         std::memcpy(buffer.data() + (y + r) * row_bytes + x * bytes_per_sample,
                     tile_.data() + std::size_t{r} * tile_width * bytes_per_sample, copy_bytes);
       }

@@ -42,7 +42,8 @@ class TiffFile;
 // info(): width, height, type of the first page; depth = all pages. Spacing 1,1,1, unless the
 // first file is an ImageJ stack whose ImageDescription gives "spacing=" (the z spacing); then x
 // and y come from its XResolution and YResolution (pixels per unit) and z from that.
-// Memory: nothing but one directory at a time until the first slice is read; then one slice
+// Memory: one directory at a time, and where every 16th page's directory is (8 bytes per 16
+// pages), until the first slice is read; then one slice
 // buffer, reused, plus one tile for tiled pages, the largest stored strip or tile of compressed
 // pages, the deflate check's scratch and the current page's strip or tile locations:
 // working_bytes(), an upper bound known from the directories.
