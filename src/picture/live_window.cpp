@@ -12,8 +12,6 @@
 namespace mvox {
 namespace {
 
-constexpr const char* kModuleName = "libmvox_live_window.so";
-
 // The module's entry points, resolved once and kept for the life of the process. We never
 // dlclose it: Qt starts threads and registers exit handlers from inside it, and unloading the
 // code they point into crashes the process later.
@@ -36,6 +34,7 @@ bool has_display() {
 
 #ifdef MVOX_HAVE_LIVE_WINDOW
 
+constexpr const char* kModuleName = "libmvox_live_window.so";
 constexpr ModuleName kLiveWindow{kModuleName, "live window module (OpenCV highgui)",
                                  "OpenCV's highgui (apt-get install libopencv-highgui-dev)"};
 
