@@ -78,9 +78,9 @@ void check_distributable(const SliceSource& source, const MeshJob& job) {
   if (!own_range_reader(source))
     throw UsageError(job.input_label,
                      "mvox-mpi needs slices every rank can read on its own: image stacks, raw "
-                     "slices or volumes, NRRD, MetaImage or NIfTI with raw data, TIFF stacks; "
-                     "this input is read in order (a pipe, compressed data, DICOM, or a --tissue "
-                     "range)");
+                     "slices or volumes, NRRD, MetaImage or NIfTI with raw data, TIFF stacks, "
+                     "DICOM series; this input is read in order (a pipe, compressed data, or a "
+                     "--tissue range)");
 }
 
 // One rank's share of the job, step by step (distributed_mesh_job.h).

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "support/command_runner.h"
+#include "support/dicom_writer.h"
 #include "support/file_io.h"
 #include "support/slab_run_checks.h"
 #include "support/tiff_bytes.h"
@@ -194,7 +196,8 @@ TEST(SlabThreads, TheDefaultIsOneWorkerPerCoreForLargeVolumes) {
 }
 
 // Files are read by each worker for its own slabs (stacks of images or raw slices, a raw volume
-// file, NRRD, MetaImage, TIFF stacks); a pipe is read once by one thread and fanned out. Both give
+// file, NRRD, MetaImage, TIFF stacks, DICOM series); a pipe is read once by one thread and
+// fanned out. Both give
 // the bytes one thread writes.
 TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
   test::ScratchDirectory dir;
@@ -220,6 +223,27 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
                     test::tiff_file_bytes(test::tiff_pages_of(noise, 19, 13, 0, 11, false)));
   test::write_bytes(dir / "tiff/b.tif",
                     test::tiff_file_bytes(test::tiff_pages_of(noise, 19, 13, 11, 18, true, 5)));
+  // A DICOM series, its slices native and in four compressions, decoded by each worker with a
+  // GDCM reader of its own.
+  const char* syntaxes[] = {test::kExplicitLittleEndianUid, test::kRleLosslessUid,
+                            test::kJpegLosslessUid, test::kJpegLsLosslessUid,
+                            test::kJpeg2000LosslessUid};
+  for (int z = 0; z < 29; ++z) {
+    test::DicomSliceSpec spec;
+    spec.width = 19;
+    spec.height = 13;
+    for (std::size_t i = 0; i < std::size_t{19} * 13; ++i)
+      spec.stored.push_back(static_cast<unsigned char>(noise[std::size_t{19} * 13 * z + i]));
+    spec.position = std::array<double, 3>{0, 0, double(z)};
+    spec.orientation = std::array<double, 6>{1, 0, 0, 0, 1, 0};
+    char name[32];
+    std::snprintf(name, sizeof name, "dicom/s%03d.dcm", z);
+    const std::string path = dir / name;
+    std::filesystem::create_directories(dir / "dicom");
+    test::write_dicom(path + ".native", spec);
+    ASSERT_TRUE(test::recode(path + ".native", path, syntaxes[z % 5])) << path;
+    std::filesystem::remove(path + ".native");
+  }
   const std::string inputs[] = {
       "stack -t 100",
       "stack -t 100 --normals",
@@ -228,6 +252,7 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
       "noise.mhd -t 128 --normals",
       "noise.nrrd -t 128",
       "tiff -t 128 --normals",
+      "dicom -t 128 --normals",
   };
   for (const std::string& input : inputs) {
     for (const bool piped : {false, true}) {

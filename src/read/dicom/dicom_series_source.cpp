@@ -87,37 +87,52 @@ DicomSeriesSource::DicomSeriesSource(const std::vector<std::string>& files, Dico
                  " DICOM series; reading the largest, " + series_text(series[0]) + "; also " +
                  list_text(others) + "; choose one with --series UID");
   }
-  plan_ = plan_dicom_volume(std::move(series[chosen].headers), options.label, options.note);
-  for (const DicomImageHeader& header : plan_.headers) {
+  plan_ = std::make_shared<const DicomVolumePlan>(
+      plan_dicom_volume(std::move(series[chosen].headers), options.label, options.note));
+  end_index_ = plan_->slices.size();
+  for (const DicomImageHeader& header : plan_->headers) {
     std::error_code error;
     const std::uintmax_t bytes = std::filesystem::file_size(header.path, error);
     if (!error) largest_file_bytes_ = std::max<std::uint64_t>(largest_file_bytes_, bytes);
   }
-  reader_.load(plan_.headers.front().path);
+  reader_.load(plan_->headers.front().path);
+}
+
+DicomSeriesSource::DicomSeriesSource(const DicomSeriesSource& whole, std::uint32_t first,
+                                     std::uint32_t end)
+    : plan_(whole.plan_),
+      next_index_(first),
+      end_index_(std::min<std::size_t>(end, whole.plan_->slices.size())),
+      largest_file_bytes_(whole.largest_file_bytes_) {}
+
+std::unique_ptr<SliceSource> DicomSeriesSource::open_range(std::uint32_t first,
+                                                           std::uint32_t end) const {
+  return std::unique_ptr<SliceSource>(new DicomSeriesSource(*this, first, end));
 }
 
 std::uint64_t DicomSeriesSource::working_bytes() const {
   const std::uint64_t slice =
-      std::uint64_t{plan_.info.width} * plan_.info.height * sample_bytes(plan_.info.type);
-  const std::uint64_t frame = dicom_frame_bytes(plan_.headers.front());
+      std::uint64_t{plan_->info.width} * plan_->info.height * sample_bytes(plan_->info.type);
+  const std::uint64_t frame = dicom_frame_bytes(plan_->headers.front());
   // Our decoded frame and slice; GDCM's copy of the file and of the frame it decodes.
   return slice + 2 * frame + largest_file_bytes_;
 }
 
 bool DicomSeriesSource::next_slice(SliceView* slice) {
-  if (next_index_ >= plan_.slices.size()) return false;
-  const DicomSliceRef& ref = plan_.slices[next_index_];
-  reader_.read_frame(plan_.headers[ref.header], ref.frame, decoded_);
-  const std::size_t count = std::size_t{plan_.info.width} * plan_.info.height;
+  if (next_index_ >= end_index_) return false;
+  const DicomVolumePlan& plan = *plan_;
+  const DicomSliceRef& ref = plan.slices[next_index_];
+  reader_.read_frame(plan.headers[ref.header], ref.frame, decoded_);
+  const std::size_t count = std::size_t{plan.info.width} * plan.info.height;
   if (samples_.empty())
-    resize_buffer(samples_, std::uint64_t{count} * sample_bytes(plan_.info.type),
-                  plan_.headers[ref.header].path, "a slice");
-  rescale_samples(decoded_.data(), count, ref.mapping, plan_.info.type, samples_.data());
+    resize_buffer(samples_, std::uint64_t{count} * sample_bytes(plan.info.type),
+                  plan.headers[ref.header].path, "a slice");
+  rescale_samples(decoded_.data(), count, ref.mapping, plan.info.type, samples_.data());
   slice->samples = samples_.data();
-  slice->width = plan_.info.width;
-  slice->height = plan_.info.height;
-  slice->row_stride_bytes = std::size_t{plan_.info.width} * sample_bytes(plan_.info.type);
-  slice->type = plan_.info.type;
+  slice->width = plan.info.width;
+  slice->height = plan.info.height;
+  slice->row_stride_bytes = std::size_t{plan.info.width} * sample_bytes(plan.info.type);
+  slice->type = plan.info.type;
   ++next_index_;
   return true;
 }
