@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -93,21 +92,9 @@ TEST(MpiRanks, ImageStacksRawSlicesMetaImageTiffAndDicomAreTheSameBytesToo) {
                     test::tiff_file_bytes(test::tiff_pages_of(volume, 30, 20, 6, 11, true, 7)));
   expect_same_for_any_ranks(dir, "tiff", "ply", "-t 128 --normals");
   // And as a DICOM series, half its slices JPEG 2000.
-  for (int z = 0; z < 17; ++z) {
-    test::DicomSliceSpec spec;
-    spec.width = 30;
-    spec.height = 20;
-    for (std::size_t i = 0; i < std::size_t{30} * 20; ++i)
-      spec.stored.push_back(static_cast<unsigned char>(volume[std::size_t{30} * 20 * z + i]));
-    spec.position = std::array<double, 3>{0, 0, double(z)};
-    spec.orientation = std::array<double, 6>{1, 0, 0, 0, 1, 0};
-    const std::string path = dir / ("dicom/s" + std::to_string(100 + z) + ".dcm");
-    std::filesystem::create_directories(dir / "dicom");
-    test::write_dicom(path + ".native", spec);
-    ASSERT_TRUE(test::recode(path + ".native", path,
-                             z % 2 ? test::kJpeg2000LosslessUid : test::kExplicitLittleEndianUid));
-    std::filesystem::remove(path + ".native");
-  }
+  test::write_dicom_series(dir / "dicom", volume, 30, 20, 17, [](std::uint32_t z) {
+    return z % 2 ? test::kJpeg2000LosslessUid : test::kExplicitLittleEndianUid;
+  });
   expect_same_for_any_ranks(dir, "dicom", "ply", "-t 128 --normals");
 }
 

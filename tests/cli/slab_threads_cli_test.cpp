@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -228,22 +227,8 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
   const char* syntaxes[] = {test::kExplicitLittleEndianUid, test::kRleLosslessUid,
                             test::kJpegLosslessUid, test::kJpegLsLosslessUid,
                             test::kJpeg2000LosslessUid};
-  for (int z = 0; z < 29; ++z) {
-    test::DicomSliceSpec spec;
-    spec.width = 19;
-    spec.height = 13;
-    for (std::size_t i = 0; i < std::size_t{19} * 13; ++i)
-      spec.stored.push_back(static_cast<unsigned char>(noise[std::size_t{19} * 13 * z + i]));
-    spec.position = std::array<double, 3>{0, 0, double(z)};
-    spec.orientation = std::array<double, 6>{1, 0, 0, 0, 1, 0};
-    char name[32];
-    std::snprintf(name, sizeof name, "dicom/s%03d.dcm", z);
-    const std::string path = dir / name;
-    std::filesystem::create_directories(dir / "dicom");
-    test::write_dicom(path + ".native", spec);
-    ASSERT_TRUE(test::recode(path + ".native", path, syntaxes[z % 5])) << path;
-    std::filesystem::remove(path + ".native");
-  }
+  test::write_dicom_series(dir / "dicom", noise, 19, 13, 29,
+                           [&](std::uint32_t z) { return syntaxes[z % 5]; });
   const std::string inputs[] = {
       "stack -t 100",
       "stack -t 100 --normals",

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -171,6 +172,26 @@ std::array<double, 6> oblique_orientation(double about_x_deg, double about_y_deg
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k) r[i][j] += rz[i][k] * yx[k][j];
   return {r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1]};
+}
+
+void write_dicom_series(const std::string& directory, const std::string& samples,
+                        std::uint32_t width, std::uint32_t height, std::uint32_t depth,
+                        const std::function<std::string(std::uint32_t)>& syntax_of) {
+  std::filesystem::create_directories(directory);
+  const std::size_t slice = std::size_t{width} * height;
+  for (std::uint32_t z = 0; z < depth; ++z) {
+    DicomSliceSpec spec;
+    spec.width = width;
+    spec.height = height;
+    for (std::size_t i = 0; i < slice; ++i)
+      spec.stored.push_back(static_cast<unsigned char>(samples[z * slice + i]));
+    spec.position = std::array<double, 3>{0, 0, double(z)};
+    spec.orientation = std::array<double, 6>{1, 0, 0, 0, 1, 0};
+    const std::string path = directory + "/s" + std::to_string(1000 + z) + ".dcm";
+    write_dicom(path + ".native", spec);
+    EXPECT_TRUE(recode(path + ".native", path, syntax_of(z))) << path;
+    std::filesystem::remove(path + ".native");
+  }
 }
 
 }  // namespace mvox::test

@@ -3,6 +3,7 @@
 // exactly the attributes a test sets, and re-encoded copies in other transfer syntaxes.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,13 @@ void write_dicom(const std::string& path, const DicomSliceSpec& spec);
 // compressions, or the native ones) with gdcm::ImageChangeTransferSyntax. Returns false (and
 // records a failure) when GDCM cannot.
 bool recode(const std::string& in, const std::string& out, const std::string& transfer_syntax_uid);
+
+// Writes `depth` slices of 8-bit `samples` (width x height each, x fastest, then y, then slice)
+// into `directory` as one axial series, slice z at z mm and named s1000+z.dcm, each recoded
+// into the transfer syntax `syntax_of(z)`: a series whose slices mix compressions.
+void write_dicom_series(const std::string& directory, const std::string& samples,
+                        std::uint32_t width, std::uint32_t height, std::uint32_t depth,
+                        const std::function<std::string(std::uint32_t)>& syntax_of);
 
 // A unit vector pair for ImageOrientationPatient, rotated off the axes by the given angles
 // (degrees) about x, then y, then z: an oblique plane.
