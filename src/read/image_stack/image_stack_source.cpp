@@ -66,8 +66,8 @@ void check_header(const std::string& path, const ImageHeader& header, const Volu
 }
 
 // Reads `path` into `bytes` and checks what its header says, before any decoder sees it.
-void read_checked_file(const std::string& path, ReadBuffer& bytes,
-                       const VolumeInfo& info, const std::string& first) {
+void read_checked_file(const std::string& path, ReadBuffer& bytes, const VolumeInfo& info,
+                       const std::string& first) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw Error(path, "no such file");
   read_file_bytes(path, bytes);  // reused from slice to slice, so it stops growing
@@ -81,20 +81,21 @@ void read_checked_file(const std::string& path, ReadBuffer& bytes,
 
 }  // namespace
 
-ImageStackSource::ImageStackSource(std::vector<std::string> files) : files_(std::move(files)) {
-  if (files_.empty()) throw Error("INPUT", "no slice image files");
-  if (files_.size() > std::numeric_limits<std::uint32_t>::max()) {
+ImageStackSource::ImageStackSource(std::vector<std::string> paths)
+    : files_(std::make_shared<const std::vector<std::string>>(std::move(paths))) {
+  if (files().empty()) throw Error("INPUT", "no slice image files");
+  if (files().size() > std::numeric_limits<std::uint32_t>::max()) {
     throw Error("INPUT", "more than 2^32-1 slice files");
   }
-  info_.depth = static_cast<std::uint32_t>(files_.size());
-  const std::string& first = files_[0];
+  info_.depth = static_cast<std::uint32_t>(files().size());
+  const std::string& first = files()[0];
   std::error_code error;
   if (!std::filesystem::exists(first, error)) throw Error(first, "no such file");
   first_file_bytes_ = std::filesystem::file_size(first, error);
   if (error) first_file_bytes_ = 0;
   // OpenCV is loaded now, before the run, when a slice will need it: a missing module is found
   // before the first slice, and its memory counts as the program's in the run's plan.
-  uses_opencv_ = !std::all_of(files_.begin(), files_.end(), decoded_without_opencv);
+  uses_opencv_ = !std::all_of(files().begin(), files().end(), decoded_without_opencv);
   const std::optional<ImageHeader> header = read_image_header(first);
   if (header && header->format == ImageFormat::png && !uses_opencv_) {
     // A PNG that is not plain grey (grey with alpha or a transparent value) is OpenCV's to read.
@@ -140,11 +141,11 @@ unsigned char* ImageStackSource::slice_buffer(const std::string& path, std::uint
     if (width != info_.width || height != info_.height) {
       throw Error(path, "image is " + size_text(width, height) + ", expected " +
                             size_text(info_.width, info_.height) + " like the first slice (" +
-                            files_[0] + ")");
+                            files()[0] + ")");
     }
     if (type != info_.type) {
       throw Error(path, "image is " + depth + ", expected " + depth_text(info_.type) +
-                            " like the first slice (" + files_[0] + ")");
+                            " like the first slice (" + files()[0] + ")");
     }
   }
   if (buffer_.empty())
@@ -153,9 +154,9 @@ unsigned char* ImageStackSource::slice_buffer(const std::string& path, std::uint
 }
 
 void ImageStackSource::load(std::size_t index) {
-  const std::string& path = files_[index];
+  const std::string& path = files()[index];
   // Until the first slice's size is known there is nothing to compare a header with.
-  read_checked_file(path, file_bytes_, info_, info_.width == 0 ? std::string() : files_[0]);
+  read_checked_file(path, file_bytes_, info_, info_.width == 0 ? std::string() : files()[0]);
   const unsigned char* bytes = file_bytes_.data();
   const std::size_t size = file_bytes_.size();
   // Every decoder writes straight into the slice buffer, after its image is checked against
@@ -201,7 +202,7 @@ std::unique_ptr<SliceSource> ImageStackSource::open_range(std::uint32_t first,
 }
 
 bool ImageStackSource::next_slice(SliceView* slice) {
-  if (next_index_ >= std::min(files_.size(), end_index_)) return false;
+  if (next_index_ >= std::min(files().size(), end_index_)) return false;
   // The constructor already decoded the first file; do not decode it twice.
   if (next_index_ != loaded_index_) load(next_index_);
   slice->samples = buffer_.data();

@@ -49,10 +49,14 @@ class ImageStackSource : public SliceSource, public RangeReadable {
   unsigned char* slice_buffer(const std::string& path, std::uint32_t width, std::uint32_t height,
                               SampleType type, int channels, const std::string& depth);
 
-  std::vector<std::string> files_;
+  const std::vector<std::string>& files() const { return *files_; }
+
+  // Shared by the ranges: a slab's range copying the list of every slice, for every slab,
+  // cost time in the number of slabs times the number of slices.
+  std::shared_ptr<const std::vector<std::string>> files_;
   VolumeInfo info_;
-  std::vector<unsigned char> buffer_;      // the current slice, rows packed, native order
-  ReadBuffer file_bytes_;  // the current slice's file, while it is decoded
+  std::vector<unsigned char> buffer_;  // the current slice, rows packed, native order
+  ReadBuffer file_bytes_;              // the current slice's file, while it is decoded
   std::size_t row_bytes_ = 0;
   std::uint64_t first_file_bytes_ = 0;  // size of the first file, for working_bytes()
   bool uses_opencv_ = false;            // some slice is decoded by OpenCV

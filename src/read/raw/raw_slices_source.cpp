@@ -1,7 +1,6 @@
 #include "read/raw/raw_slices_source.h"
 
 #include <algorithm>
-
 #include <filesystem>
 #include <limits>
 #include <system_error>
@@ -13,18 +12,18 @@
 
 namespace mvox {
 
-RawSlicesSource::RawSlicesSource(std::vector<std::string> files, const RawFormat& format)
-    : files_(std::move(files)), format_(format) {
+RawSlicesSource::RawSlicesSource(std::vector<std::string> paths, const RawFormat& format)
+    : files_(std::make_shared<const std::vector<std::string>>(std::move(paths))), format_(format) {
   if (format_.depth != 0) {
     throw Error("--raw", raw_format_text(format_) +
                              " describes one volume file; one file per slice needs WxH:TYPE");
   }
-  if (files_.empty()) throw Error("INPUT", "no raw slice files");
-  if (files_.size() > std::numeric_limits<std::uint32_t>::max()) {
+  if (files().empty()) throw Error("INPUT", "no raw slice files");
+  if (files().size() > std::numeric_limits<std::uint32_t>::max()) {
     throw Error("INPUT", "more than 2^32-1 slice files");
   }
   const std::string what = "one " + raw_format_text(format_) + " slice";
-  for (const std::string& path : files_) {
+  for (const std::string& path : files()) {
     std::error_code error;
     const std::uintmax_t size = std::filesystem::file_size(path, error);
     if (error) throw Error(path, "cannot get file size: " + error.message());
@@ -34,7 +33,7 @@ RawSlicesSource::RawSlicesSource(std::vector<std::string> files, const RawFormat
   }
   info_.width = format_.width;
   info_.height = format_.height;
-  info_.depth = static_cast<std::uint32_t>(files_.size());
+  info_.depth = static_cast<std::uint32_t>(files().size());
   info_.type = format_.type;
 }
 
@@ -48,8 +47,8 @@ std::unique_ptr<SliceSource> RawSlicesSource::open_range(std::uint32_t first,
 }
 
 bool RawSlicesSource::next_slice(SliceView* slice) {
-  if (next_index_ >= std::min(files_.size(), end_index_)) return false;
-  RawFile file(files_[next_index_]);
+  if (next_index_ >= std::min(files().size(), end_index_)) return false;
+  RawFile file(files()[next_index_]);
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
   if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file.path(), "a slice");

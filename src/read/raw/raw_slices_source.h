@@ -33,7 +33,9 @@ class RawSlicesSource : public SliceSource, public RangeReadable {
   std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
 
  private:
-  std::vector<std::string> files_;
+  const std::vector<std::string>& files() const { return *files_; }
+  // Shared by the ranges, not copied for every slab (image_stack_source.h says why).
+  std::shared_ptr<const std::vector<std::string>> files_;
   RawFormat format_;
   VolumeInfo info_;
   ReadBuffer buffer_;  // the current slice, native order

@@ -363,10 +363,11 @@ void move_libtiff_to(TiffFile& libtiff, std::uint64_t* at, std::uint64_t page_in
 
 }  // namespace
 
-TiffStackSource::TiffStackSource(std::vector<std::string> files) : files_(std::move(files)) {
-  if (files_.empty()) throw Error("INPUT", "no TIFF files");
+TiffStackSource::TiffStackSource(std::vector<std::string> files) {
+  files_->paths = std::move(files);
+  if (files_->paths.empty()) throw Error("INPUT", "no TIFF files");
   std::uint64_t pages = 0;
-  for (std::size_t i = 0; i < files_.size(); ++i) check_file(i, &pages);
+  for (std::size_t i = 0; i < files_->paths.size(); ++i) check_file(i, &pages);
   if (pages > std::numeric_limits<std::uint32_t>::max()) {
     throw Error("INPUT", "more than 2^32-1 TIFF pages");
   }
@@ -379,8 +380,6 @@ TiffStackSource::TiffStackSource(std::vector<std::string> files) : files_(std::m
 TiffStackSource::TiffStackSource(const TiffStackSource& whole, std::uint32_t first,
                                  std::uint32_t end)
     : files_(whole.files_),
-      pages_per_file_(whole.pages_per_file_),
-      directory_marks_(whole.directory_marks_),
       info_(whole.info_),
       largest_tile_(whole.largest_tile_),
       largest_deflate_chunk_(whole.largest_deflate_chunk_),
@@ -390,8 +389,9 @@ TiffStackSource::TiffStackSource(const TiffStackSource& whole, std::uint32_t fir
       end_index_(std::min(end, whole.info_.depth)) {
   // The file holding slice `first`, and its page there; next_slice walks up to it.
   std::uint64_t page = first;
-  while (file_index_ < pages_per_file_.size() && page >= pages_per_file_[file_index_]) {
-    page -= pages_per_file_[file_index_];
+  const std::vector<std::uint64_t>& pages = files_->pages;
+  while (file_index_ < pages.size() && page >= pages[file_index_]) {
+    page -= pages[file_index_];
     ++file_index_;
   }
   page_in_file_ = page;
@@ -417,7 +417,7 @@ std::uint64_t TiffStackSource::working_bytes() const {
 TiffStackSource::~TiffStackSource() = default;
 
 void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
-  TiffDirectoryReader reader(files_[file_index]);
+  TiffDirectoryReader reader(files_->paths[file_index]);
   const std::string& path = reader.path();
   TiffDirectory tags;
   std::unique_ptr<TiffFile> libtiff;  // opened at the first page that libtiff decodes
@@ -436,7 +436,7 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
     } else {
       const PageFormat first{info_.width, info_.height, info_.type};
       if (!same_format(format, first)) {
-        const std::string like = file_index == 0 ? "page 1" : "page 1 of " + files_[0];
+        const std::string like = file_index == 0 ? "page 1" : "page 1 of " + files_->paths[0];
         throw Error(path, page_subject(page) + " is " + std::to_string(format.width) + "x" +
                               std::to_string(format.height) + " " + sample_text(format.type) +
                               ", expected " + std::to_string(first.width) + "x" +
@@ -461,8 +461,8 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
     }
     ++page;
   }
-  pages_per_file_.push_back(page);
-  directory_marks_->push_back(std::move(marks));
+  files_->pages.push_back(page);
+  files_->directory_marks.push_back(std::move(marks));
   *pages += page;
 }
 
@@ -589,7 +589,7 @@ void TiffStackSource::read_page(ReadBuffer& buffer) {
 
 bool TiffStackSource::next_slice(SliceView* slice) {
   if (next_index_ >= end_index_) return false;
-  if (open_ && page_in_file_ >= pages_per_file_[file_index_]) {
+  if (open_ && page_in_file_ >= files_->pages[file_index_]) {
     open_.reset();
     libtiff_.reset();
     ++file_index_;
@@ -599,11 +599,11 @@ bool TiffStackSource::next_slice(SliceView* slice) {
     return Error(open_->path(), page_subject(page) + " is gone since the stack was opened");
   };
   if (!open_) {
-    open_ = std::make_unique<TiffDirectoryReader>(files_[file_index_]);
+    open_ = std::make_unique<TiffDirectoryReader>(files_->paths[file_index_]);
     // A range may start inside the file: from the mark before its first page, the directories
     // are walked up to it.
     const std::uint64_t mark = page_in_file_ / kPagesPerMark;
-    open_->go_to_directory((*directory_marks_)[file_index_][mark], mark * kPagesPerMark);
+    open_->go_to_directory(files_->directory_marks[file_index_][mark], mark * kPagesPerMark);
     for (std::uint64_t page = mark * kPagesPerMark; page < page_in_file_; ++page) {
       if (!open_->next(&page_)) throw gone(page);
     }

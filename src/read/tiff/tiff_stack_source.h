@@ -81,15 +81,18 @@ class TiffStackSource : public SliceSource, public RangeReadable {
   // checks that libtiff reads the page's directory as mvox did.
   void position_libtiff();
 
-  std::vector<std::string> files_;
-  std::vector<std::uint64_t> pages_per_file_;  // counted by the constructor
-  // Where the directory of every kPagesPerMark-th page of each file is (file by file, from
-  // page 0): a range starts there and reads at most kPagesPerMark - 1 directories before its
-  // first page, instead of every directory before it. 8 bytes per 16 pages, shared by the
-  // ranges.
+  // What the constructor learnt of the files, shared by the ranges rather than copied for every
+  // slab (a folder of single-page TIFF slices is a file per slice).
+  struct Files {
+    std::vector<std::string> paths;
+    std::vector<std::uint64_t> pages;  // of each file
+    // Where the directory of every kPagesPerMark-th page of each file is (file by file, from
+    // page 0): a range starts there and reads at most kPagesPerMark - 1 directories before
+    // its first page, instead of every directory before it. 8 bytes per 16 pages.
+    std::vector<std::vector<std::uint64_t>> directory_marks;
+  };
   static constexpr std::uint64_t kPagesPerMark = 16;
-  using DirectoryMarks = std::vector<std::vector<std::uint64_t>>;
-  std::shared_ptr<DirectoryMarks> directory_marks_ = std::make_shared<DirectoryMarks>();
+  std::shared_ptr<Files> files_ = std::make_shared<Files>();
   VolumeInfo info_;
   ReadBuffer buffer_;  // the current slice, native order; from the first slice
   ReadBuffer tile_;    // one decoded tile of a tiled page
