@@ -155,13 +155,19 @@ std::uint32_t TiffDirectory::chunk_at(std::uint32_t x, std::uint32_t y) const {
   return y / tile_height * across + x / tile_width;
 }
 
-std::uint64_t tiff_chunk_count(const TiffDirectory& directory) {
+namespace {
+
+// Strips (or tiles) a page of this size has; 0 for an empty page or tile. Saturates at the
+// largest uint64 for absurd sizes.
+std::uint64_t chunk_count(const TiffDirectory& directory) {
   if (directory.width == 0 || directory.height == 0) return 0;
   if (!directory.tiled) return ceil_div(directory.height, directory.strip_rows());
   if (directory.tile_width == 0 || directory.tile_height == 0) return 0;
   return saturating_product(ceil_div(directory.width, directory.tile_width),
                             ceil_div(directory.height, directory.tile_height));
 }
+
+}  // namespace
 
 TiffDirectoryReader::TiffDirectoryReader(const std::string& path) : path_(path) {
   file_ = std::make_unique<RawFile>(path, "a TIFF file");
@@ -474,7 +480,7 @@ void TiffDirectoryReader::read_directory(std::uint64_t offset, TiffDirectory* pa
   } else if (!has_rows_per_strip) {
     page->rows_per_strip = page->height;
   }
-  const std::uint64_t chunks = tiff_chunk_count(*page);
+  const std::uint64_t chunks = chunk_count(*page);
   if (chunks == 0) return;  // an empty page or tile, which the stack refuses by its sizes
   if (chunks > 0xffffffffu) {
     throw Error(path_, where + ": it would have " + std::to_string(chunks) + " " +

@@ -36,7 +36,7 @@ struct TiffDirectory {
   std::uint32_t tile_width = 0;  // tiled pages
   std::uint32_t tile_height = 0;
   std::uint32_t rows_per_strip = 0;  // striped pages: as stored, or the page's height when absent
-  // Where each strip or tile is stored, exactly as many as the page has (chunk_count()).
+  // Where each strip or tile is stored, exactly as many as the page has.
   // An uncompressed page without byte counts gets the bytes its strips or tiles decode to,
   // as libtiff gives it.
   std::vector<std::uint64_t> chunk_offsets;
@@ -50,10 +50,6 @@ struct TiffDirectory {
   // The strip holding row y, or the tile holding sample (x, y).
   std::uint32_t chunk_at(std::uint32_t x, std::uint32_t y) const;
 };
-
-// Strips (or tiles) a page of this size has; 0 for an empty page or tile. Saturates at the
-// largest uint64 for absurd sizes.
-std::uint64_t tiff_chunk_count(const TiffDirectory& directory);
 
 // Reads one TIFF file's directories in order, and the bytes of its strips and tiles. Every
 // problem throws mvox::Error naming the file and, for a directory, its page (1-based).

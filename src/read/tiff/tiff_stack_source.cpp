@@ -239,30 +239,31 @@ PageBuffers check_page_data(const TiffDirectory& tags, const std::string& path,
   const std::size_t count = tags.chunk_offsets.size();
   std::uint64_t stored_total = 0, decoded_total = 0;
   for (std::size_t i = 0; i < count; ++i) {
-    const std::string chunk = (tiled ? "tile " : "strip ") + std::to_string(i);
+    // Named only for a refusal: a page may have thousands of strips.
+    const auto chunk = [&] { return (tiled ? "tile " : "strip ") + std::to_string(i); };
     const std::uint64_t offset = tags.chunk_offsets[i], bytes = tags.chunk_bytes[i];
-    if (bytes == 0) throw Error(path, page + ": " + chunk + " has no data");
+    if (bytes == 0) throw Error(path, page + ": " + chunk() + " has no data");
     if (offset > file_bytes || file_bytes - offset < bytes) {
-      throw Error(path, page + ": " + chunk + " ends at byte " + std::to_string(offset + bytes) +
+      throw Error(path, page + ": " + chunk() + " ends at byte " + std::to_string(offset + bytes) +
                             ", but the file is " + std::to_string(file_bytes) +
                             " bytes (truncated)");
     }
     // A strip holds rows_per_strip rows, the last one what is left; a tile is whole even
     // where it reaches past the image.
-    std::uint64_t decoded = buffers.tile;
-    std::string declared = std::to_string(tile_width) + "x" + std::to_string(tile_height);
+    std::uint64_t decoded = buffers.tile, rows = 0;
     if (!tiled) {
       const std::uint64_t first_row = std::uint64_t{i} * rows_per_strip;
-      const std::uint64_t rows =
-          first_row >= format.height
-              ? 0
-              : std::min<std::uint64_t>(rows_per_strip, format.height - first_row);
+      rows = first_row >= format.height
+                 ? 0
+                 : std::min<std::uint64_t>(rows_per_strip, format.height - first_row);
       decoded = product(rows, row_bytes);
-      declared = std::to_string(rows) + " rows of " + std::to_string(format.width);
     }
     if (!could_hold(codec, bytes, decoded)) {
-      throw Error(path, page + ": " + chunk + " declares " + std::to_string(decoded) + " bytes (" +
-                            declared + samples_text + ")" + stored_text(codec, bytes));
+      const std::string declared =
+          tiled ? std::to_string(tile_width) + "x" + std::to_string(tile_height)
+                : std::to_string(rows) + " rows of " + std::to_string(format.width);
+      throw Error(path, page + ": " + chunk() + " declares " + std::to_string(decoded) +
+                            " bytes (" + declared + samples_text + ")" + stored_text(codec, bytes));
     }
     stored_total = sum(stored_total, bytes);
     decoded_total = sum(decoded_total, decoded);
@@ -485,19 +486,22 @@ void TiffStackSource::position_libtiff() {
 void TiffStackSource::read_chunk(std::uint32_t index, unsigned char* out, std::size_t out_bytes,
                                  std::size_t row_samples) {
   const std::string& path = open_->path();
-  const std::string chunk = page_subject(page_in_file_) + ": " +
-                            (page_.tiled ? "tile " : "strip ") + std::to_string(index);
+  // Named only for a message: this runs for every strip or tile of every page.
+  const auto chunk = [&] {
+    return page_subject(page_in_file_) + ": " + (page_.tiled ? "tile " : "strip ") +
+           std::to_string(index);
+  };
   const std::uint64_t offset = page_.chunk_offsets[index], stored = page_.chunk_bytes[index];
   const bool deflate = is_deflate(page_.compression);
   if (!deflate && page_.compression != COMPRESSION_NONE) {
     if (!libtiff_->read_chunk(index, out, out_bytes)) {
-      throw Error(path, chunk + ": libtiff cannot decode it" + libtiff_->take_error());
+      throw Error(path, chunk() + ": libtiff cannot decode it" + libtiff_->take_error());
     }
     return;
   }
   // The constructor saw every strip and tile; the file may have changed since.
   if (deflate ? stored > largest_deflate_chunk_ : stored < out_bytes) {
-    throw Error(path, chunk + " changed since the stack was opened");
+    throw Error(path, chunk() + " changed since the stack was opened");
   }
   const bool reversed = page_.fill_order == FILLORDER_LSB2MSB;
   const std::size_t bytes_per_sample = sample_bytes(info_.type);
@@ -512,7 +516,7 @@ void TiffStackSource::read_chunk(std::uint32_t index, unsigned char* out, std::s
   }
   // libtiff's deflate decoder stops once it has the samples, often before the zlib checksum:
   // the stored bytes are inflated whole here, checksum included (zlib_stream_check.h).
-  grow_buffer(raw_, stored, path, "the stored data of " + chunk);
+  if (raw_.size() < stored) grow_buffer(raw_, stored, path, "the stored data of " + chunk());
   open_->read_at(offset, raw_.data(), static_cast<std::size_t>(stored));
   // Bits stored in reverse order (FillOrder 2) are put right before inflating, as libtiff
   // does.
@@ -527,10 +531,10 @@ void TiffStackSource::read_chunk(std::uint32_t index, unsigned char* out, std::s
                           std::to_string(ZlibStreamCheck::kWorkingBytes) + " bytes)");
   }
   if (!inflated.problem.empty()) {
-    throw Error(path, chunk + ": corrupt deflate data (zlib: " + inflated.problem + ")");
+    throw Error(path, chunk() + ": corrupt deflate data (zlib: " + inflated.problem + ")");
   }
   if (inflated.total < out_bytes) {
-    throw Error(path, chunk + ": its deflate data decode to " + std::to_string(inflated.total) +
+    throw Error(path, chunk() + ": its deflate data decode to " + std::to_string(inflated.total) +
                           " bytes, fewer than the " + std::to_string(out_bytes) + " it holds");
   }
   // What libtiff does after inflating: byte order and predictor.
@@ -542,7 +546,7 @@ void TiffStackSource::read_chunk(std::uint32_t index, unsigned char* out, std::s
   // (with their bits back in stored order, which it reverses itself).
   if (reversed) reverse_bit_order(raw_.data(), static_cast<std::size_t>(stored));
   if (!libtiff_->decode_stored_chunk(index, raw_.data(), stored, out, out_bytes)) {
-    throw Error(path, chunk + ": libtiff cannot decode it" + libtiff_->take_error());
+    throw Error(path, chunk() + ": libtiff cannot decode it" + libtiff_->take_error());
   }
 }
 
