@@ -5,7 +5,7 @@
 #include <cstring>
 #include <limits>
 
-#include "write/mesh/little_endian.h"
+#include "write/mesh/binary_records.h"
 
 namespace mvox {
 namespace {
@@ -111,21 +111,7 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
     }
     return;
   }
-  // Binary records are formatted straight into the file's buffer, a run at a time: a write
-  // call per vertex cost more than the formatting.
-  const std::size_t record_bytes = 4 * static_cast<std::size_t>(fields);
-  const std::size_t per_run = BufferedWriter::kBufferBytes / record_bytes;
-  for (std::size_t first = 0; first < vertex_count; first += per_run) {
-    const std::size_t count = std::min(per_run, vertex_count - first);
-    auto* out = reinterpret_cast<unsigned char*>(sink.reserve(count * record_bytes));
-    for (std::size_t i = first; i < first + count; ++i) {
-      const WorldVertex& vertex = vertices[i];
-      for (int axis = 0; axis < 3; ++axis) out = store_le_float(out, vertex.position[axis]);
-      if (fields == 6)
-        for (int axis = 0; axis < 3; ++axis) out = store_le_float(out, vertex.normal[axis]);
-    }
-    sink.commit(count * record_bytes);
-  }
+  put_ply_vertices(sink, vertices, vertex_count, fields == 6);
 }
 
 void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
@@ -150,23 +136,7 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
     }
     return;
   }
-  // A count byte and the indices, formatted in place a run at a time (as the vertices).
-  constexpr std::size_t kLargestRecord = 1 + 4 * kMaxPolygonVertices;
-  constexpr std::size_t kPerRun = BufferedWriter::kBufferBytes / kLargestRecord;
-  for (std::size_t first = 0; first < face_count; first += kPerRun) {
-    const std::size_t count = std::min(kPerRun, face_count - first);
-    auto* const start = reinterpret_cast<unsigned char*>(faces_.reserve(count * kLargestRecord));
-    unsigned char* out = start;
-    for (std::size_t i = first; i < first + count; ++i) {
-      const Polygon& face = faces[i];
-      const int corners = face.vertex_count;
-      // MeshWriter checked every face; checked again so the record provably fits.
-      if (corners > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
-      *out++ = static_cast<unsigned char>(corners);
-      for (int k = 0; k < corners; ++k) out = store_le32(out, face.vertices[k] + index_offset);
-    }
-    faces_.commit(static_cast<std::size_t>(out - start));
-  }
+  put_ply_faces(faces_, faces, face_count, index_offset, subject());
 }
 
 void PlyWriter::complete_file() {

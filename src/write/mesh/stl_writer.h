@@ -27,7 +27,6 @@ namespace mvox {
 class StlWriter final : public MeshWriter {
  public:
   static constexpr std::size_t kHeaderBytes = 80;
-  static constexpr std::size_t kTriangleBytes = 50;
 
   // Creates the temporary file. Throws mvox::Error.
   explicit StlWriter(const std::string& path, const MeshWriterOptions& options = {});
@@ -46,9 +45,6 @@ class StlWriter final : public MeshWriter {
   void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
                    std::uint32_t index_offset) override;
   void complete_file() override;
-  template <class Sink>
-  void write_triangles_to(Sink& sink, const Polygon* faces, const FacePositions* positions,
-                          std::size_t face_count);
 
   OutputFile out_;
   std::optional<ScratchFile> spool_;  // only when out_ cannot be overwritten
