@@ -5,7 +5,9 @@
 #include <vector>
 
 #include "error.h"
+#include "mpi/mpi_file_stream.h"
 #include "mpi/picture_reduction.h"
+#include "mpi/placed_part_writer.h"
 #include "mpi/shared_mesh_file.h"
 #include "mvox/workspace_buffer.h"
 #include "picture/normal_window.h"
@@ -17,6 +19,7 @@
 #include "pipeline/slab_recorder.h"
 #include "pipeline/stopwatch.h"
 #include "read/range_readable.h"
+#include "write/mesh/binary_records.h"
 #include "write/mesh/mesh_writer.h"
 #include "write/mesh/ply_writer.h"
 #include "write/output_file.h"
@@ -94,7 +97,8 @@ class RankRun {
         info_(report_.volume),
         ranges_(own_range_reader(source)),
         engine_(job.engine),
-        whole_mesh_(job.mesh) {
+        whole_mesh_(job.mesh),
+        placed_(want_mesh() && PlacedPartWriter::places(job.format)) {
     // Normals are computed by each rank in its own window.
     whole_mesh_.normals = nullptr;
     whole_mesh_.normals_given = job.normals;
@@ -108,7 +112,8 @@ class RankRun {
 
   // Checks, the memory plan, and rank 0's outputs created. False for a dry run.
   bool prepare();
-  // Step 1 (with a mesh): counts, and learns where this rank's vertex numbers start.
+  // Step 1 (with a mesh): counts, and learns where this rank's vertex numbers start; for parts
+  // written in place, also where its records go, and opens the file.
   void count();
   // Step 2: this rank's part of the mesh, and its layer of the picture.
   void extract();
@@ -125,6 +130,14 @@ class RankRun {
   void join_summaries(const SlabSummary& mine);
   // Refuses, naming the output, a mesh its format cannot hold, known from the counts.
   void check_format_limits() const;
+  // Every rank's part shape from the counts, the head, and the shared file opened.
+  void place_parts();
+  // The part's shape as the counts give it for `summary`'s slab.
+  PartShape planned_shape(const SlabSummary& summary) const;
+  // A writer of this rank's part: into the shared file in place, or into a part file.
+  std::unique_ptr<MeshWriter> open_part_writer(const MeshWriterOptions& options);
+  // Throws unless the part written has the shape the counts planned.
+  void check_placed_part() const;
   // Runs this rank's slab: into `replay` (null: nothing recorded) and `layer` (may be null).
   SlabSummary run_slab(const EngineOptions& engine, const VertexPlacement* placement,
                        SlabReplay* replay, bool mesh_normals, bool draw);
@@ -137,6 +150,7 @@ class RankRun {
   const RangeReadable* ranges_;
   EngineOptions engine_;
   MeshWriterOptions whole_mesh_;
+  bool placed_;  // the part written in place (PlacedPartWriter), not into a part file
   bool window_ = false;
   SlabSpan span_;
   Clock::time_point start_ = Clock::now();
@@ -147,11 +161,17 @@ class RankRun {
   std::optional<SurfacePicture> picture_;  // every rank: the camera; rank 0's is the image
   std::optional<NormalWindow> normal_window_;
   std::unique_ptr<PictureLayer> layer_;
-  SlabSummary counted_;  // this rank's slab, from the counting pass
+  SlabSummary counted_;                 // this rank's slab, from the counting pass
+  std::vector<SlabSummary> summaries_;  // every rank's, in rank order
+  std::vector<char> busy_;              // whether each rank has slices
   SlabJoin before_, whole_;
-  std::unique_ptr<MeshWriter> part_;
   PartShape shape_;
+  std::vector<PartShape> shapes_;  // every rank's part
   std::uint64_t faces_ = 0;
+  std::string head_;
+  std::optional<SharedMeshFile> shared_file_;
+  std::optional<MpiFileStream> vertex_stream_, face_stream_;  // placed parts
+  std::unique_ptr<MeshWriter> part_;                          // after what it writes into
 };
 
 MemoryPlan RankRun::plan_memory() const {
@@ -164,8 +184,12 @@ MemoryPlan RankRun::plan_memory() const {
   if (window_) plan.add("slice window (4 slices)", 4 * slice);
   if (want_mesh()) {
     plan.add("recorded output (one chunk)", SlabChunk::reserved_bytes(engine_));
-    plan.add("mesh writer buffers", mesh_writer_working_bytes(job_.format));
-    plan.add("copying the part into the mesh", std::uint64_t{1} << 20);
+    if (placed_) {
+      plan.add("mesh records, written in place", PlacedPartWriter::working_bytes());
+    } else {
+      plan.add("mesh writer buffers", mesh_writer_working_bytes(job_.format));
+      plan.add("copying the part into the mesh", std::uint64_t{1} << 20);
+    }
   }
   if (job_.picture.wanted()) {
     // The picture with its slab numbers, the rank's layer, the reduction's buffers, MPI's own
@@ -255,6 +279,67 @@ void RankRun::count() {
   });
   join_summaries(counted_);
   world_.step([&] { check_format_limits(); });
+  if (placed_) place_parts();
+}
+
+PartShape RankRun::planned_shape(const SlabSummary& summary) const {
+  const EngineCounters& c = summary.counters;
+  std::uint64_t polygons = 0, triangles = 0, polygon_bytes = 0;
+  for (int size = 3; size <= kMaxPolygonVertices; ++size) {
+    polygons += c.polygons_by_size[size];
+    triangles += std::uint64_t(size - 2) * c.polygons_by_size[size];
+    polygon_bytes += ply_face_record_bytes(size) * c.polygons_by_size[size];
+  }
+  PartShape shape;
+  if (job_.format == MeshFormat::stl) {
+    shape.faces = triangles;
+    shape.vertex_bytes = kStlTriangleBytes * triangles;
+    return shape;
+  }
+  const std::uint64_t own_vertices = c.vertices - c.shared_vertices;
+  shape.vertex_bytes = ply_vertex_record_bytes(whole_mesh_.writes_normals()) * own_vertices;
+  shape.faces = whole_mesh_.triangulate ? triangles : polygons;
+  shape.face_bytes = whole_mesh_.triangulate ? ply_face_record_bytes(3) * triangles : polygon_bytes;
+  return shape;
+}
+
+void RankRun::place_parts() {
+  shapes_.assign(summaries_.size(), PartShape{});
+  for (std::size_t r = 0; r < summaries_.size(); ++r) {
+    if (busy_[r]) shapes_[r] = planned_shape(summaries_[r]);
+    faces_ += shapes_[r].faces;
+  }
+  // check_format_limits() found the head writable.
+  head_ = mesh_file_head(job_.format, whole_mesh_, whole_.counters().vertices, faces_);
+  const std::string path = world_.broadcast(world_.rank() == 0 ? mesh_file_->temporary_path() : "");
+  shared_file_.emplace(world_, path, job_.output);
+}
+
+std::unique_ptr<MeshWriter> RankRun::open_part_writer(const MeshWriterOptions& options) {
+  if (!placed_) {
+    // Never published: the part is read back from its temporary and deleted with the writer.
+    return open_mesh_writer(job_.output + ".part" + std::to_string(world_.rank()), job_.format,
+                            options);
+  }
+  const PartOffsets at = part_offsets(shapes_, world_.rank(), head_.size());
+  vertex_stream_.emplace(shared_file_->file(), at.vertex_at, job_.output);
+  face_stream_.emplace(shared_file_->file(), at.face_at, job_.output);
+  return std::make_unique<PlacedPartWriter>(job_.format, options, *vertex_stream_, *face_stream_,
+                                            job_.output);
+}
+
+void RankRun::check_placed_part() const {
+  const auto& written = static_cast<const PlacedPartWriter&>(*part_);
+  const PartShape& planned = shapes_[static_cast<std::size_t>(world_.rank())];
+  if (written.vertex_bytes() == planned.vertex_bytes &&
+      written.face_bytes() == planned.face_bytes && written.faces_written() == planned.faces)
+    return;
+  throw Error(job_.input_label,
+              "changed while being read: slices " + std::to_string(span_.first) + " to " +
+                  std::to_string(span_.end - 1) + " gave " + std::to_string(planned.faces) +
+                  " faces in " + std::to_string(planned.vertex_bytes + planned.face_bytes) +
+                  " bytes, then " + std::to_string(written.faces_written()) + " in " +
+                  std::to_string(written.vertex_bytes() + written.face_bytes()));
 }
 
 void RankRun::check_format_limits() const {
@@ -275,12 +360,12 @@ void RankRun::check_format_limits() const {
 }
 
 void RankRun::join_summaries(const SlabSummary& mine) {
-  const std::vector<SlabSummary> summaries = world_.all_gather(mine);
-  const std::vector<char> busy = world_.all_gather<char>(has_slices());
+  summaries_ = world_.all_gather(mine);
+  busy_ = world_.all_gather<char>(has_slices());
   for (int r = 0; r < world_.size(); ++r) {
-    if (!busy[r]) continue;  // a rank without slices (more ranks than slices)
-    if (r < world_.rank()) before_.end(summaries[r]);
-    whole_.end(summaries[r]);
+    if (!busy_[r]) continue;  // a rank without slices (more ranks than slices)
+    if (r < world_.rank()) before_.end(summaries_[r]);
+    whole_.end(summaries_[r]);
   }
 }
 
@@ -296,9 +381,7 @@ void RankRun::extract() {
     MeshWriterOptions options = whole_mesh_;
     options.part = MeshWriterOptions::Part{before_.vertices_before()};
     options.sync = false;
-    // Never published: the part is read back from its temporary and deleted with the writer.
-    part_ = open_mesh_writer(job_.output + ".part" + std::to_string(world_.rank()), job_.format,
-                             options);
+    part_ = open_part_writer(options);
     SlabReplay replay(part_.get(), before_);
     try {
       run_slab(engine_, &part_->placement(), &replay, job_.normals, draw);
@@ -316,6 +399,10 @@ void RankRun::extract() {
                   "changed while being read: slices " + std::to_string(span_.first) + " to " +
                       std::to_string(span_.end - 1) + " gave " + std::to_string(counted) +
                       " vertices, then " + std::to_string(written));
+    if (placed_) {
+      check_placed_part();
+      return;
+    }
     shape_.face_bytes = part_->part_face_bytes();
     shape_.vertex_bytes = part_->output_file()->bytes_written() - shape_.face_bytes;
     shape_.faces = part_->faces_written();
@@ -326,17 +413,22 @@ void RankRun::extract() {
 void RankRun::write_together() {
   const auto write_start = Clock::now();
   if (want_mesh()) {
-    const std::vector<PartShape> shapes = world_.all_gather(shape_);
-    for (const PartShape& shape : shapes) faces_ += shape.faces;
-    std::string head;
-    world_.step([&] {
-      head = mesh_file_head(job_.format, whole_mesh_, whole_.counters().vertices, faces_);
-    });
-    const std::string path =
-        world_.broadcast(world_.rank() == 0 ? mesh_file_->temporary_path() : "");
-    write_mesh_together(world_, path, job_.output, head, shapes,
-                        part_ ? part_->output_file()->temporary_path() : "", job_.sync);
-    part_.reset();  // deletes this rank's temporary part
+    std::string part_path;
+    if (!placed_) {
+      // The parts' sizes are known now; their records wait in part files.
+      shapes_ = world_.all_gather(shape_);
+      for (const PartShape& shape : shapes_) faces_ += shape.faces;
+      world_.step([&] {
+        head_ = mesh_file_head(job_.format, whole_mesh_, whole_.counters().vertices, faces_);
+      });
+      const std::string path =
+          world_.broadcast(world_.rank() == 0 ? mesh_file_->temporary_path() : "");
+      shared_file_.emplace(world_, path, job_.output);
+      if (part_) part_path = part_->output_file()->temporary_path();
+    }
+    shared_file_->write(head_, shapes_, part_path);
+    shared_file_->close(job_.sync);
+    part_.reset();  // deletes this rank's temporary part, if it has one
   }
   if (picture_) {
     std::optional<PictureReduction> reduction;

@@ -7,15 +7,18 @@
 // stacks, raw slices or volume, NRRD and MetaImage with raw data: read/range_readable.h).
 // Three collective steps:
 //   1. count: each rank runs its slab's engine and keeps only how the slab ended (its vertex
-//      counts, SlabSummary); all ranks exchange these, and each knows from the ranks before it
-//      where its vertex numbers start (SlabJoin).
+//      counts and polygons by size, SlabSummary); all ranks exchange these, and each knows from
+//      the ranks before it where its vertex numbers start (SlabJoin). For binary PLY and STL,
+//      whose records have sizes that follow from those counts, each rank also knows now where
+//      its records go in the file, and the ranks open it together (MPI-IO).
 //   2. write a part: each rank runs its engine again into a writer of the mesh's format that
-//      writes a part (MeshWriterOptions::part): no head, vertices numbered from there on. The
-//      part waits in a temporary file beside the output.
-//   3. write together: the ranks exchange their parts' sizes, an exclusive scan gives each its
-//      offsets, and each writes its part into the one output file with MPI-IO at those offsets
-//      (PLY: its vertex records among the vertices, its face records among the faces); rank 0
-//      writes the head with the whole mesh's counts (shared_mesh_file.h).
+//      writes a part (MeshWriterOptions::part): no head, vertices numbered from there on. Binary
+//      PLY and STL parts go straight into the file at their offsets (placed_part_writer.h): PLY
+//      its vertex records among the vertices, its face records among the faces. Parts of other
+//      formats (ASCII PLY, OBJ) wait in a temporary file beside the output.
+//   3. write together: rank 0 writes the head with the whole mesh's counts. Parts that waited
+//      are copied in: the ranks exchange their sizes, an exclusive scan gives each its offsets,
+//      and each writes its part with MPI-IO at those offsets (shared_mesh_file.h).
 // A picture is drawn in step 2, each rank its slab into a layer of its own, and composited in
 // step 3 by one reduction over the ranks (picture_reduction.h); without a mesh, step 2 is the
 // only extraction.
@@ -25,7 +28,8 @@
 // Memory per rank is one engine's (workspace, reader, window, one recorded chunk, the writer's
 // buffers, the picture's z-buffers), whatever the depth and the number of ranks. The extraction
 // runs twice, which costs less than waiting: without the counts no rank could number its vertices
-// before the ranks before it were done.
+// before the ranks before it were done, nor, for PLY, know where the faces start. Counting first
+// also spares binary PLY the second copy of its faces that one process writing alone makes.
 #include "mpi/mpi_world.h"
 #include "mvox/slice_source.h"
 #include "pipeline/mesh_job.h"

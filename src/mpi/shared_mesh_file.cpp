@@ -48,41 +48,48 @@ PartOffsets part_offsets(const std::vector<PartShape>& shapes, int rank, std::ui
   return at;
 }
 
-void write_mesh_together(MpiWorld& world, const std::string& path, const std::string& subject,
-                         const std::string& head, const std::vector<PartShape>& shapes,
-                         const std::string& part_path, bool sync) {
-  MPI_File file = MPI_FILE_NULL;
+SharedMeshFile::SharedMeshFile(MpiWorld& world, const std::string& path, const std::string& subject)
+    : world_(world), subject_(subject) {
   const int opened =
-      MPI_File_open(world.comm(), path.c_str(), MPI_MODE_WRONLY, MPI_INFO_NULL, &file);
+      MPI_File_open(world.comm(), path.c_str(), MPI_MODE_WRONLY, MPI_INFO_NULL, &file_);
   world.step([&] {
     if (opened != MPI_SUCCESS)
-      throw Error(subject, "cannot open for the ranks to write: " + mpi_error_text(opened));
-    if (world.rank() == 0) {
+      throw Error(subject_, "cannot open for the ranks to write: " + mpi_error_text(opened));
+  });
+}
+
+void SharedMeshFile::write(const std::string& head, const std::vector<PartShape>& shapes,
+                           const std::string& part_path) {
+  world_.step([&] {
+    if (world_.rank() == 0) {
       MPI_Status status;
-      const int code =
-          MPI_File_write_at(file, 0, head.data(), static_cast<int>(head.size()), MPI_BYTE, &status);
-      if (code != MPI_SUCCESS) throw Error(subject, "write failed: " + mpi_error_text(code));
+      const int code = MPI_File_write_at(file_, 0, head.data(), static_cast<int>(head.size()),
+                                         MPI_BYTE, &status);
+      if (code != MPI_SUCCESS) throw Error(subject_, "write failed: " + mpi_error_text(code));
     }
     if (part_path.empty()) return;
-    const PartShape& shape = shapes[static_cast<std::size_t>(world.rank())];
-    const PartOffsets at = part_offsets(shapes, world.rank(), head.size());
+    const PartShape& shape = shapes[static_cast<std::size_t>(world_.rank())];
+    const PartOffsets at = part_offsets(shapes, world_.rank(), head.size());
     const int fd = ::open(part_path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw Error(subject, "cannot read back this rank's part: " + errno_text(errno));
+    if (fd < 0) throw Error(subject_, "cannot read back this rank's part: " + errno_text(errno));
     try {
-      copy_into(file, fd, 0, shape.vertex_bytes, at.vertex_at, subject);
-      copy_into(file, fd, shape.vertex_bytes, shape.face_bytes, at.face_at, subject);
+      copy_into(file_, fd, 0, shape.vertex_bytes, at.vertex_at, subject_);
+      copy_into(file_, fd, shape.vertex_bytes, shape.face_bytes, at.face_at, subject_);
     } catch (...) {
       ::close(fd);
       throw;
     }
     ::close(fd);
   });
+}
+
+void SharedMeshFile::close(bool sync) {
   // Collective calls, made by every rank whatever the step found.
-  const int synced = sync && opened == MPI_SUCCESS ? MPI_File_sync(file) : MPI_SUCCESS;
-  const int closed = opened == MPI_SUCCESS ? MPI_File_close(&file) : MPI_SUCCESS;
-  world.step([&] {
-    if (synced != MPI_SUCCESS) throw Error(subject, "sync failed: " + mpi_error_text(synced));
-    if (closed != MPI_SUCCESS) throw Error(subject, "close failed: " + mpi_error_text(closed));
+  const int synced = sync ? MPI_File_sync(file_) : MPI_SUCCESS;
+  const int closed = MPI_File_close(&file_);
+  world_.step([&] {
+    if (synced != MPI_SUCCESS) throw Error(subject_, "sync failed: " + mpi_error_text(synced));
+    if (closed != MPI_SUCCESS) throw Error(subject_, "close failed: " + mpi_error_text(closed));
   });
 }
 

@@ -70,6 +70,39 @@ TEST(MpiRanks, EveryFormatAndOptionIsTheSameBytesAsOneProcess) {
   EXPECT_EQ(dir.entries(), sorted) << "a part or a temporary was left behind";
 }
 
+// Binary PLY and STL parts go straight into the shared file at offsets from the counts; ASCII
+// PLY and OBJ parts, whose sizes the counts cannot give, wait in part files. The run's memory
+// plan says which (RankRun::plan_memory), and the file is the same either way.
+TEST(MpiRanks, BinaryPlyAndStlPartsAreWrittenInPlace) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 37 * 29 * 41, 11);
+  struct Case {
+    std::string format;
+    std::string extension;
+    bool in_place;
+  };
+  const Case cases[] = {{"ply", "ply", true},
+                        {"stl", "stl", true},
+                        {"ply-ascii", "ply", false},
+                        {"obj", "obj", false}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.format);
+    const std::string common =
+        "extract noise.raw --raw 37x29x41:u8 -t 128 -q --format " + c.format + " ";
+    ASSERT_EQ(run_mvox(common + "--threads 1 -o alone." + c.extension, dir.path()).exit_code, 0);
+    const test::CommandResult result =
+        run_ranks(3, common + "--stats ranks.json -o ranks." + c.extension, dir.path());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_TRUE(test::read_bytes(dir.path() / ("ranks." + c.extension)) ==
+                test::read_bytes(dir.path() / ("alone." + c.extension)));
+    const std::string stats = test::read_bytes(dir.path() / "ranks.json");
+    EXPECT_EQ(stats.find("\"mesh records, written in place\"") != std::string::npos, c.in_place)
+        << stats;
+    EXPECT_EQ(stats.find("\"copying the part into the mesh\"") != std::string::npos, !c.in_place)
+        << stats;
+  }
+}
+
 TEST(MpiRanks, ImageStacksRawSlicesMetaImageTiffAndDicomAreTheSameBytesToo) {
   test::ScratchDirectory dir;
   ASSERT_EQ(run_mvox("phantom blobs -o stack --size 40x36x30 -q", dir.path()).exit_code, 0);
