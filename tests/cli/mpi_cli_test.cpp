@@ -72,23 +72,30 @@ TEST(MpiRanks, EveryFormatAndOptionIsTheSameBytesAsOneProcess) {
 
 // Binary PLY and STL parts go straight into the shared file at offsets from the counts; ASCII
 // PLY and OBJ parts, whose sizes the counts cannot give, wait in part files. The run's memory
-// plan says which (RankRun::plan_memory), and the file is the same either way.
+// plan says which (RankRun::plan_memory), and the file is the same either way: also for the
+// methods and options that change the polygons' sizes, from which the offsets are worked out.
 TEST(MpiRanks, BinaryPlyAndStlPartsAreWrittenInPlace) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 37 * 29 * 41, 11);
   struct Case {
-    std::string format;
+    std::string options;
     std::string extension;
     bool in_place;
   };
-  const Case cases[] = {{"ply", "ply", true},
-                        {"stl", "stl", true},
-                        {"ply-ascii", "ply", false},
-                        {"obj", "obj", false}};
+  const Case cases[] = {
+      {"--format ply", "ply", true},
+      {"--format stl", "stl", true},
+      {"--format ply-ascii", "ply", false},
+      {"--format obj", "obj", false},
+      {"--format ply --method cubes", "ply", true},
+      {"--format ply --method cubes --triangulate --normals", "ply", true},
+      {"--format ply --interpolate --normals", "ply", true},
+      {"--format ply --surface paper-table1 --triangulate", "ply", true},
+      {"--format stl --method cubes --spacing 0.5,1,2 --origin -3,4,5", "stl", true},
+  };
   for (const Case& c : cases) {
-    SCOPED_TRACE(c.format);
-    const std::string common =
-        "extract noise.raw --raw 37x29x41:u8 -t 128 -q --format " + c.format + " ";
+    SCOPED_TRACE(c.options);
+    const std::string common = "extract noise.raw --raw 37x29x41:u8 -t 128 -q " + c.options + " ";
     ASSERT_EQ(run_mvox(common + "--threads 1 -o alone." + c.extension, dir.path()).exit_code, 0);
     const test::CommandResult result =
         run_ranks(3, common + "--stats ranks.json -o ranks." + c.extension, dir.path());
