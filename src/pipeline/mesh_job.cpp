@@ -1,13 +1,14 @@
 #include "pipeline/mesh_job.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <thread>
 
 #include "error.h"
+#include "labels/label_spool.h"
 #include "message_line.h"
 #include "picture/normal_window.h"
 #include "picture/picture_layer.h"
@@ -18,7 +19,6 @@
 #include "pipeline/slab_extraction.h"
 #include "pipeline/stopwatch.h"
 #include "pipeline/termination.h"
-#include "labels/label_spool.h"
 #include "postprocess/edge_smoothing.h"
 #include "write/buffered_writer.h"
 #include "write/output_file.h"
@@ -66,8 +66,9 @@ void print_run_summary(const RunReport& r) {
     std::fprintf(stderr, ", smoothed %u times", r.smooth_iterations);
   }
   if (r.piece_rule)
-    std::fprintf(stderr, ", %s of %s pieces kept (%s polygons)", grouped(r.pieces.pieces_kept).c_str(),
-                 grouped(r.pieces.pieces).c_str(), grouped(r.pieces.polygons_kept).c_str());
+    std::fprintf(stderr, ", %s of %s pieces kept (%s polygons)",
+                 grouped(r.pieces.pieces_kept).c_str(), grouped(r.pieces.pieces).c_str(),
+                 grouped(r.pieces.polygons_kept).c_str());
   if (r.decimation) {
     const DecimationCounts& d = r.result.decimation;
     std::fprintf(stderr, ", decimated to %s triangles (%.1f%% of %s) on %s vertices",
@@ -120,6 +121,19 @@ void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& pla
   std::fflush(stdout);
 }
 
+const char* why_one_engine(const MeshJob& job) {
+  if (!job.picture.frames_dir.empty())
+    return "--frames shows the picture slice by slice, as one engine draws it";
+  if (job.picture.show) return "--show shows the picture slice by slice, as one engine draws it";
+  if (job.smooth_iterations > 0)
+    return "--smooth needs the layers on both sides of a slab's boundary";
+  if (job.decimation) return "--decimate needs the layers on both sides of a slab's boundary";
+  if (job.pieces.active())
+    return job.pieces.largest ? "--largest keeps the mesh of one engine until its end"
+                              : "--min-faces keeps the mesh of one engine until its end";
+  return nullptr;
+}
+
 unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
   const VolumeInfo& info = source.info();
   unsigned threads = job.threads;
@@ -128,11 +142,7 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
         std::uint64_t{info.width} * info.height * info.depth * sample_bytes(info.type);
     threads = bytes >= kAutoSlabVolumeBytes ? std::max(1u, std::thread::hardware_concurrency()) : 1;
   }
-  // Frames and the live window show the picture slice by slice, as one engine draws it; the
-  // smoothing needs the layers on both sides of a slab's boundary; pieces are spooled by one.
-  if (threads <= 1 || !job.picture.frames_dir.empty() || job.picture.show ||
-      job.smooth_iterations > 0 || job.decimation || job.pieces.active())
-    return 1;
+  if (threads <= 1 || why_one_engine(job)) return 1;
   const std::uint32_t slabs = slab_count(info, job.slab_slices);
   // At most one worker per slab (run_slab_pipeline takes no more).
   return slabs >= 2 ? std::min(threads, slabs) : 1;
@@ -267,6 +277,11 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
   const unsigned threads = slab_threads(source, job);
+  // Threads asked for and not used are said once, not silently dropped.
+  if (job.threads > 1 && !job.quiet)
+    if (const char* why = why_one_engine(job))
+      print_message("note", "--threads " + std::to_string(job.threads) + ": " + why +
+                                "; one engine extracts");
   std::optional<NormalWindow> normal_window;
   if (threads == 1 && (job.normals || (want_picture && job.picture.smooth)))
     normal_window.emplace(report.volume, placement.spacing, job.input_label,
@@ -353,9 +368,8 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   const auto write_start = Clock::now();
   if (spool) {
     report.piece_rule = job.pieces;
-    const Status status =
-        write_kept_pieces(*spool, 1, std::uint64_t{info.width} * info.height, job.pieces,
-                          spool_directory, *writer, &report.pieces);
+    const Status status = write_kept_pieces(*spool, 1, std::uint64_t{info.width} * info.height,
+                                            job.pieces, spool_directory, *writer, &report.pieces);
     if (status == Status::sink_refused && writer->error()) throw *writer->error();
     if (status != Status::ok)
       throw Error(job.output, std::string("writing failed: ") + status_message(status));

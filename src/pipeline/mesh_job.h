@@ -5,12 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "labels/piece_filter.h"
 #include "mvox/engine.h"
 #include "mvox/slice_source.h"
 #include "picture/surface_picture.h"
 #include "pipeline/memory_plan.h"
 #include "write/mesh/mesh_format.h"
-#include "labels/piece_filter.h"
 #include "write/stats_json.h"
 
 namespace mvox {
@@ -88,9 +88,15 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
 // (docs/scaling.md).
 constexpr std::uint64_t kAutoSlabVolumeBytes = std::uint64_t{64} << 20;
 
+// Why the job must run on one engine whatever --threads says, or null: frames and the live
+// window follow the picture slice by slice, as one engine draws it; smoothing and decimation
+// need the layers on both sides of a slab's boundary; --largest and --min-faces keep one
+// engine's mesh until the end. A sentence naming the option, for the note a run prints.
+const char* why_one_engine(const MeshJob& job);
+
 // The extracting threads the job will run `source` with: job.threads (for 0, as said above), at
-// most one per slab, when the volume has at least two slabs and the job writes no frames and
-// shows no window (they follow the picture slice by slice, as one engine draws it), else 1.
+// most one per slab, when the volume has at least two slabs and nothing needs one engine
+// (why_one_engine), else 1.
 unsigned slab_threads(const SliceSource& source, const MeshJob& job);
 
 // The summary a run prints on standard error unless quiet: counts, times, memory.

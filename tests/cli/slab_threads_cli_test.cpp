@@ -107,6 +107,35 @@ TEST(SlabThreads, FramesFollowOneEngine) {
   EXPECT_NE(plan.output.find("engine workspace"), std::string::npos) << plan.output;
 }
 
+// Threads asked for that the job cannot use are said in one note, naming the option that needs
+// one engine; never silently, never twice, never with -q, and not when no --threads was given.
+TEST(SlabThreads, ThreadsThatCannotBeUsedAreSaidInANote) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 41 * 23 * 37, 5);
+  const std::string input = "extract noise.raw --raw 41x23x37:u8 -t 128 --slab-slices 4 ";
+  const std::pair<std::string, std::string> cases[] = {
+      {"-o m.ply --smooth 2", "--smooth"},
+      {"-o m.ply --decimate 0.5", "--decimate"},
+      {"-o m.ply --largest", "--largest"},
+      {"--image p.png --frames f", "--frames"},
+  };
+  for (const auto& [options, option] : cases) {
+    SCOPED_TRACE(options);
+    const test::CommandResult result = run_mvox(input + options + " --threads 3", dir.path());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    const std::string note = "mvox: note: --threads 3: " + option;
+    const std::size_t at = result.output.find(note);
+    ASSERT_NE(at, std::string::npos) << result.output;
+    EXPECT_EQ(result.output.find(note, at + 1), std::string::npos) << "said twice";
+    EXPECT_NE(result.output.find("; one engine extracts\n", at), std::string::npos)
+        << result.output;
+    EXPECT_EQ(run_mvox(input + options + " --threads 3 -q", dir.path()).output, "");
+    EXPECT_EQ(run_mvox(input + options, dir.path()).output.find("note:"), std::string::npos);
+  }
+  const test::CommandResult usable = run_mvox(input + "-o m.ply --threads 3", dir.path());
+  EXPECT_EQ(usable.output.find("note:"), std::string::npos) << usable.output;
+}
+
 // The threads a run starts, as strace sees them: clone calls that make a thread.
 int threads_started(const std::string& arguments, const test::ScratchDirectory& dir) {
   const test::CommandResult result =
