@@ -135,22 +135,22 @@ void check_memory_budget(const MemoryPlan& plan, const MemoryBudget& budget,
 }
 
 std::string memory_plan_text(const MemoryPlan& plan, const MemoryBudget& budget) {
+  constexpr const char* kThisRun = "this run";
+  constexpr const char* kProcess = "program and libraries, already in use";
+  constexpr const char* kTotal = "total";
+  // The names in a column as wide as the longest, so that the sizes line up.
+  std::size_t width = std::strlen(kProcess);
+  for (const MemoryItem& item : plan.items) width = std::max(width, item.name.size());
   std::string text;
-  char line[160];
-  for (const MemoryItem& item : plan.items) {
-    std::snprintf(line, sizeof line, "  %-34s %12s\n", item.name.c_str(),
-                  memory_text(item.bytes).c_str());
-    text += line;
-  }
-  std::snprintf(line, sizeof line, "  %-34s %12s\n", "this run",
-                memory_text(plan.job_bytes()).c_str());
-  text += line;
-  std::snprintf(line, sizeof line, "  %-34s %12s\n", "program and libraries, already in use",
-                memory_text(plan.process_bytes).c_str());
-  text += line;
-  std::snprintf(line, sizeof line, "  %-34s %12s\n", "total",
-                memory_text(plan.total_bytes()).c_str());
-  text += line;
+  auto add_line = [&](const std::string& name, std::uint64_t bytes) {
+    text += "  " + name + std::string(width - name.size(), ' ');
+    const std::string size = memory_text(bytes);
+    text += std::string(size.size() < 13 ? 13 - size.size() : 1, ' ') + size + "\n";
+  };
+  for (const MemoryItem& item : plan.items) add_line(item.name, item.bytes);
+  add_line(kThisRun, plan.job_bytes());
+  add_line(kProcess, plan.process_bytes);
+  add_line(kTotal, plan.total_bytes());
   if (budget.bytes == 0) {
     text += "  budget: none\n";
   } else {
