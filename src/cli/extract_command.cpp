@@ -1,24 +1,24 @@
 // mvox extract INPUT... -t D -o mesh.ply|.stl|.obj: the main job.
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
-#include <utility>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "cli/cli_options.h"
 #include "cli/commands.h"
 #include "error.h"
-#include "message_line.h"
 #include "labels/label_job.h"
 #include "labels/tissue_presets.h"
 #include "labels/value_range_source.h"
-#include "read/dicom/dicom_series_source.h"
+#include "message_line.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/mesh_job.h"
 #include "pipeline/termination.h"
 #include "postprocess/layer_decimation.h"
+#include "read/dicom/dicom_series_source.h"
 #include "read/input_files.h"
 #include "read/input_format.h"
 #include "read/raw/raw_format.h"
@@ -47,9 +47,9 @@ struct ExtractArguments {
   bool sync = false;
   unsigned threads = 0;  // 0: not given (chosen by the volume's size)
   std::uint32_t slab_slices = 0;
-  std::string labels;  // --labels LIST ("" with the option alone: every label)
-  PieceRule pieces;    // --largest, --min-faces
-  std::string tissue;  // --tissue NAME (labels/tissue_presets.h); empty: not given
+  std::string labels;       // --labels LIST ("" with the option alone: every label)
+  PieceRule pieces;         // --largest, --min-faces
+  std::string tissue;       // --tissue NAME (labels/tissue_presets.h); empty: not given
   bool hounsfield = false;  // --hu: the input's values are Hounsfield units
   const CLI::Option* labels_option = nullptr;
   const CLI::Option* threshold_option = nullptr;
@@ -83,13 +83,15 @@ void check_threshold_range(const std::string& input, SampleType type, double thr
 // The options --labels cannot take, as usage errors before anything is read.
 void check_label_options(const ExtractArguments& args) {
   if (args.threshold_option->count() > 0)
-    throw CLI::ValidationError("--labels", "a voxel belongs to label L when its value is L: "
-                                           "leave -t out");
+    throw CLI::ValidationError("--labels",
+                               "a voxel belongs to label L when its value is L: "
+                               "leave -t out");
   const std::string& pattern = args.output;
   if (pattern.find("{label}") == std::string::npos ||
       std::filesystem::path(pattern).parent_path().string().find("{label}") != std::string::npos)
-    throw CLI::ValidationError("--labels", "one mesh per label: give -o with {label} in the "
-                                           "file name, e.g. -o 'organ_{label}.stl'");
+    throw CLI::ValidationError("--labels",
+                               "one mesh per label: give -o with {label} in the "
+                               "file name, e.g. -o 'organ_{label}.stl'");
   const std::pair<bool, const char*> refused[] = {
       {!args.picture.image.empty(), "--image"},
       {!args.picture.frames_dir.empty(), "--frames"},
@@ -104,13 +106,15 @@ void check_label_options(const ExtractArguments& args) {
   };
   for (const auto& [given, option] : refused)
     if (given)
-      throw CLI::ValidationError(option, "not with --labels, which writes each label's mesh on "
-                                         "one thread, without pictures or post-processing");
+      throw CLI::ValidationError(option,
+                                 "not with --labels, which writes each label's mesh on "
+                                 "one thread, without pictures or post-processing");
   const EngineOptions engine = args.engine.options();
   if (engine.method != SurfaceMethod::voxels || engine.interpolate)
-    throw CLI::ValidationError("--labels", "labels are extracted by marching voxels at their "
-                                           "voxel boundaries: leave out --method cubes and "
-                                           "--interpolate");
+    throw CLI::ValidationError("--labels",
+                               "labels are extracted by marching voxels at their "
+                               "voxel boundaries: leave out --method cubes and "
+                               "--interpolate");
 }
 
 void run_labels(const ExtractArguments& args) {
@@ -128,8 +132,8 @@ void run_labels(const ExtractArguments& args) {
   job.input_files = std::move(input.files);
   job.engine = args.engine.options();
   job.output_pattern = args.output;
-  job.mesh = mesh_writer_options(args.mesh, input.source->info(), job.input_label,
-                                 "mvox marching voxels");
+  job.mesh =
+      mesh_writer_options(args.mesh, input.source->info(), job.input_label, "mvox marching voxels");
   job.stats_path = args.stats_path;
   job.sync = args.sync;
   job.quiet = args.quiet;
@@ -149,9 +153,9 @@ void check_hounsfield_input(const ExtractArguments& args, const SliceSource& sou
                   ", not CT"
             : "does not say its values are Hounsfield units";
   throw Error(inputs_label(args.inputs),
-              "--tissue " + args.tissue + " is a range of Hounsfield units, and the input " +
-                  what + "; add --hu if its values are HU (a CT saved as NIfTI or NRRD), or "
-                         "give -t in its own units");
+              "--tissue " + args.tissue + " is a range of Hounsfield units, and the input " + what +
+                  "; add --hu if its values are HU (a CT saved as NIfTI or NRRD), or "
+                  "give -t in its own units");
 }
 
 void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
@@ -225,8 +229,7 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
     std::snprintf(comment, sizeof comment, "mvox marching cubes, threshold %g", threshold);
   else
     std::snprintf(comment, sizeof comment, "mvox marching voxels, threshold %g, %s engine, %s%s",
-                  threshold, engine_kind_name(job.engine.kind),
-                  surface_rule_name(job.engine.rule),
+                  threshold, engine_kind_name(job.engine.kind), surface_rule_name(job.engine.rule),
                   job.engine.interpolate ? ", interpolated vertices" : "");
   std::string described = comment + tissue_comment;
   if (args.smooth > 0) described += ", smoothed " + std::to_string(args.smooth) + " times";
@@ -254,14 +257,17 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
     if (args.output.empty())
       throw CLI::ValidationError(option, "keeps pieces of the mesh: give -o");
     if (args.picture.wanted_any())
-      throw CLI::ValidationError(option, "not with a picture, which is drawn as the surface "
-                                         "streams, before its pieces are known");
+      throw CLI::ValidationError(option,
+                                 "not with a picture, which is drawn as the surface "
+                                 "streams, before its pieces are known");
     if (args.normals)
-      throw CLI::ValidationError(option, "not with --normals, whose slices are gone when the "
-                                         "pieces are known");
+      throw CLI::ValidationError(option,
+                                 "not with --normals, whose slices are gone when the "
+                                 "pieces are known");
     if (args.decimate > 0 || args.max_error > 0)
-      throw CLI::ValidationError(option, "not with --decimate or --max-error, whose triangles "
-                                         "come out long after their vertices");
+      throw CLI::ValidationError(option,
+                                 "not with --decimate or --max-error, whose triangles "
+                                 "come out long after their vertices");
     job.pieces = args.pieces;
   }
   job.picture = args.picture.options();
@@ -303,7 +309,9 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                    "slice files, or one raw volume file (with --raw)")
       ->required();
   args->threshold_option =
-      command->add_option("-t,--threshold", args->threshold, "Threshold D in sample units (required, but for --labels)")
+      command
+          ->add_option("-t,--threshold", args->threshold,
+                       "Threshold D in sample units (required, but for --labels)")
           ->check(finite_number());
   args->labels_option =
       command
@@ -416,17 +424,19 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                    "Extracting threads. Above 1, the volume is cut into slabs of slices "
                    "extracted in parallel; the mesh and the picture are what one thread makes, "
                    "byte for byte (volumes of one slab, about 1 MiB of samples, and runs with "
-                   "--frames or --show use one engine). 1: one "
+                   "--frames, --show, --smooth, --decimate, --largest or --min-faces use one "
+                   "engine, with a note). 1: one "
                    "thread does everything, for single-core devices. Default: one per core "
                    "for volumes of 64 MiB or more, else one engine and a reading thread")
       ->check(CLI::Range(1u, 1024u));
-  // For tests and tuning: thin slabs put slab boundaries everywhere in a small volume.
+  // For tests and tuning: thin slabs put slab boundaries everywhere in a small volume. Listed
+  // in --help: CLI11 leaves the name of a hidden option out of its errors (": Value 2 not in
+  // range").
   command
       ->add_option("--slab-slices", args->slab_slices,
-                   "Slices per slab with --threads above 1 (default: about 1 MiB of samples a "
-                   "slab, 8 to 128 slices; at least 4)")
-      ->check(CLI::Range(4u, 1u << 30))
-      ->group("");
+                   "Slices per slab with --threads above 1, for tuning (default: about 1 MiB of "
+                   "samples a slab, 8 to 128 slices; at least 4)")
+      ->transform(whole_number_from(4, std::uint64_t{1} << 30));
   command->add_flag("-q,--quiet", args->quiet, "No progress line and no summary");
   command->callback([args, runner] { run_extract(*args, runner); });
 }

@@ -61,6 +61,10 @@ TEST_F(BadInput, NumbersOutsideTheirRangeAreUsageErrors) {
   expect_refused(job + " --every 1e3", "--every",
                  "must be a whole number from 1 to 1073741824, got 1e3", 2);
   expect_refused(job + " --every 4294967297", "--every", "got 4294967297", 2);
+  // A tuning option once hidden from --help, whose refusals then named no option (": Value 2").
+  for (const char* slices : {"2", "abc", "1e3"})
+    expect_refused(job + " --threads 2 --slab-slices " + slices, "--slab-slices",
+                   std::string("must be a whole number from 4 to 1073741824, got ") + slices, 2);
   // CLI::PositiveNumber's refusal printed its bound, DBL_MAX, with some 310 digits.
   for (const char* spacing : {"0,1,1", "1,-2,1", "1,1,nan", "inf,1,1"}) {
     expect_refused(job + " --spacing " + spacing, "--spacing", "must be positive and finite, got ",
