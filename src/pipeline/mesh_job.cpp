@@ -103,9 +103,9 @@ void print_run_summary(const RunReport& r) {
 }
 
 void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& plan) {
-  std::printf("mvox extract --dry-run: %s, %ux%ux%u %s voxels, threshold %g\n", r.input.c_str(),
-              r.volume.width, r.volume.height, r.volume.depth, sample_type_name(r.volume.type),
-              r.threshold);
+  std::printf("%s extract --dry-run: %s, %ux%ux%u %s voxels, threshold %g\n", message_program(),
+              r.input.c_str(), r.volume.width, r.volume.height, r.volume.depth,
+              sample_type_name(r.volume.type), r.threshold);
   if (!job.output.empty())
     std::printf("  mesh: %s (%s)\n", job.output.c_str(), mesh_format_name(job.format));
   if (!job.picture.image_path.empty())

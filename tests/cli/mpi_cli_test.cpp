@@ -110,6 +110,24 @@ TEST(MpiRanks, BinaryPlyAndStlPartsAreWrittenInPlace) {
   }
 }
 
+// --dry-run on ranks: one plan, printed by rank 0 under mvox-mpi's name, per rank, and nothing
+// written.
+TEST(MpiRanks, ADryRunPrintsOnePlanAndWritesNothing) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 20 * 20 * 8, 5);
+  const test::CommandResult result =
+      run_ranks(3, "extract noise.raw --raw 20x20x8:u8 -t 128 -o m.ply --dry-run", dir.path());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(result.output.rfind("mvox-mpi extract --dry-run: noise.raw, 20x20x8 u8", 0), 0u)
+      << result.output;
+  const std::string last = "nothing read but headers, nothing written\n";
+  ASSERT_NE(result.output.find(last), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find(last), result.output.size() - last.size()) << "printed twice";
+  EXPECT_NE(result.output.find("engine workspace (per rank)"), std::string::npos);
+  EXPECT_NE(result.output.find("mesh records, written in place"), std::string::npos);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"noise.raw"});
+}
+
 TEST(MpiRanks, ImageStacksRawSlicesMetaImageTiffAndDicomAreTheSameBytesToo) {
   test::ScratchDirectory dir;
   ASSERT_EQ(run_mvox("phantom blobs -o stack --size 40x36x30 -q", dir.path()).exit_code, 0);
