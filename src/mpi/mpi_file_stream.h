@@ -12,6 +12,13 @@
 
 namespace mvox {
 
+// Writes `size` bytes (at most INT_MAX) at `at` of `file` with MPI_File_write_at, and throws
+// mvox::Error naming `subject` unless all of them were written. Open MPI reports a write the
+// file system refused (a full disk, `ulimit -f`) as a success that wrote fewer bytes, so the
+// count is checked, not only the return code.
+void write_fully_at(MPI_File file, std::uint64_t at, const void* data, std::size_t size,
+                    const std::string& subject);
+
 class MpiFileStream {
  public:
   // `file` stays open while this writes; `subject` names the file in errors.

@@ -7,6 +7,7 @@
 #include <cerrno>
 
 #include "error.h"
+#include "mpi/mpi_file_stream.h"
 
 namespace mvox {
 namespace {
@@ -21,10 +22,7 @@ void copy_into(MPI_File file, int fd, std::uint64_t from, std::uint64_t size, st
     if (got <= 0)
       throw Error(subject, "cannot read back this rank's part: " +
                                (got < 0 ? errno_text(errno) : std::string("file too short")));
-    MPI_Status status;
-    const int code = MPI_File_write_at(file, static_cast<MPI_Offset>(at), buffer.data(),
-                                       static_cast<int>(got), MPI_BYTE, &status);
-    if (code != MPI_SUCCESS) throw Error(subject, "write failed: " + mpi_error_text(code));
+    write_fully_at(file, at, buffer.data(), static_cast<std::size_t>(got), subject);
     from += static_cast<std::uint64_t>(got);
     at += static_cast<std::uint64_t>(got);
     size -= static_cast<std::uint64_t>(got);
@@ -61,12 +59,7 @@ SharedMeshFile::SharedMeshFile(MpiWorld& world, const std::string& path, const s
 void SharedMeshFile::write(const std::string& head, const std::vector<PartShape>& shapes,
                            const std::string& part_path) {
   world_.step([&] {
-    if (world_.rank() == 0) {
-      MPI_Status status;
-      const int code = MPI_File_write_at(file_, 0, head.data(), static_cast<int>(head.size()),
-                                         MPI_BYTE, &status);
-      if (code != MPI_SUCCESS) throw Error(subject_, "write failed: " + mpi_error_text(code));
-    }
+    if (world_.rank() == 0) write_fully_at(file_, 0, head.data(), head.size(), subject_);
     if (part_path.empty()) return;
     const PartShape& shape = shapes[static_cast<std::size_t>(world_.rank())];
     const PartOffsets at = part_offsets(shapes, world_.rank(), head.size());

@@ -277,11 +277,6 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
   const unsigned threads = slab_threads(source, job);
-  // Threads asked for and not used are said once, not silently dropped.
-  if (job.threads > 1 && !job.quiet)
-    if (const char* why = why_one_engine(job))
-      print_message("note", "--threads " + std::to_string(job.threads) + ": " + why +
-                                "; one engine extracts");
   std::optional<NormalWindow> normal_window;
   if (threads == 1 && (job.normals || (want_picture && job.picture.smooth)))
     normal_window.emplace(report.volume, placement.spacing, job.input_label,
@@ -313,6 +308,12 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   const std::string spool_directory =
       writer && writer->output_file() ? writer->output_file()->scratch_directory() : ".";
   if (writer && job.pieces.active()) spool.emplace(spool_directory, job.output);
+  // Threads asked for and not used are said once, not silently dropped; after every output
+  // is created, so that a refusal before the run stays one line.
+  if (job.threads > 1 && !job.quiet)
+    if (const char* why = why_one_engine(job))
+      print_message("note", "--threads " + std::to_string(job.threads) + ": " + why +
+                                "; one engine extracts");
   PipelineSinks sinks;
   if (writer) sinks.mesh = spool ? &spool->session(1) : &*writer;
   if (picture) sinks.render = &picture->sink();

@@ -243,6 +243,46 @@ TEST(MpiRanks, ABadSliceFailsAsOneProcessFailsAndLeavesNothing) {
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"stack"}) << "a part or a temporary was left";
 }
 
+// A write the file system refuses (a full disk, here ENOSPC from a preloaded library in one
+// rank) fails the run with mvox-mpi's error naming the output, whichever rank and whichever
+// write: a rank's records written in place, rank 0's head, a part copied in. Open MPI reports
+// such a write as a success that wrote fewer bytes, and prints a line of its own; a mesh with a
+// hole or a zero head must never appear.
+TEST(MpiRanks, AWriteTheDiskRefusesFailsTheRunAndLeavesNothing) {
+#ifndef MVOX_FAILING_MPI_WRITES
+  GTEST_SKIP() << "a sanitized mvox-mpi cannot take the preloaded library that fails writes";
+#else
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 60 * 50 * 40, 3);
+  test::write_bytes(dir / "m.ply", std::string("the previous mesh"));
+  test::write_bytes(dir / "m.obj", std::string("the previous mesh"));
+  struct Case {
+    std::string output;
+    int rank;
+    std::string writes;
+  };
+  const Case cases[] = {{"m.ply", 1, "large"}, {"m.ply", 0, "small"}, {"m.obj", 1, "large"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.output + ", rank " + std::to_string(c.rank) + ", " + c.writes + " writes");
+    const test::CommandResult result = run_command(
+        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 '" MVOX_MPIEXEC
+        "' --quiet --oversubscribe -np 3 -x LD_PRELOAD='" MVOX_FAILING_MPI_WRITES
+        "' -x MVOX_FAIL_WRITES_RANK=" +
+            std::to_string(c.rank) + " -x MVOX_FAIL_WRITES=" + c.writes +
+            " '" MVOX_MPI_BINARY "' extract noise.raw --raw 60x50x40:u8 -t 128 -q -o " + c.output,
+        dir.path());
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    const std::string ours = "mvox-mpi: error: " + c.output + ": write failed: ";
+    const std::size_t at = result.output.find(ours);
+    ASSERT_NE(at, std::string::npos) << result.output;
+    EXPECT_EQ(result.output.find(ours, at + 1), std::string::npos) << "reported twice";
+    EXPECT_EQ(test::read_bytes(dir.path() / c.output), "the previous mesh");
+  }
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"m.obj", "m.ply", "noise.raw"}))
+      << "a part or a temporary was left behind";
+#endif
+}
+
 TEST(MpiRanks, WhatRanksCannotShareIsRefusedInOneLine) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 20 * 20 * 8, 5);
