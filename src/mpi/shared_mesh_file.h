@@ -29,7 +29,9 @@ struct PartOffsets {
 PartOffsets part_offsets(const std::vector<PartShape>& shapes, int rank, std::uint64_t head_bytes);
 
 // The file open on every rank, in agreed steps (MpiWorld::step): rank 0's temporary of the
-// output, named `subject` in messages.
+// output, named `subject` in messages. After a failed step it is left open, deliberately: every
+// rank then ends at once, and MPI_Finalize (~MpiWorld) closes it; a close in a destructor would
+// be a collective call made while the ranks unwind.
 class SharedMeshFile {
  public:
   // Collective: opens `path`. Throws as MpiWorld::step does.
