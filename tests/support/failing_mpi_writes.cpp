@@ -13,13 +13,16 @@
 
 namespace {
 
-bool fails(std::size_t bytes) {
+// True, with errno set to ENOSPC, when this rank's write of `bytes` is to fail.
+bool refused(std::size_t bytes) {
   const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
   const char* failing = std::getenv("MVOX_FAIL_WRITES_RANK");
   const char* which = std::getenv("MVOX_FAIL_WRITES");
   if (!rank || !failing || !which || std::strcmp(rank, failing) != 0) return false;
   const bool large = bytes >= 4096;
-  return std::strcmp(which, "large") == 0 ? large : !large;
+  if (std::strcmp(which, "large") == 0 ? !large : large) return false;
+  errno = ENOSPC;
+  return true;
 }
 
 std::size_t total(const struct iovec* pieces, int count) {
@@ -27,6 +30,9 @@ std::size_t total(const struct iovec* pieces, int count) {
   for (int i = 0; i < count; ++i) bytes += pieces[i].iov_len;
   return bytes;
 }
+
+using Pwrite = ssize_t (*)(int, const void*, size_t, off_t);
+using Pwritev = ssize_t (*)(int, const struct iovec*, int, off_t);
 
 template <class Function>
 Function next(const char* name) {
@@ -38,39 +44,23 @@ Function next(const char* name) {
 extern "C" {
 
 ssize_t pwrite(int fd, const void* data, size_t bytes, off_t at) {
-  if (fails(bytes)) {
-    errno = ENOSPC;
-    return -1;
-  }
-  static const auto real = next<ssize_t (*)(int, const void*, size_t, off_t)>("pwrite");
-  return real(fd, data, bytes, at);
+  static const Pwrite real = next<Pwrite>("pwrite");
+  return refused(bytes) ? -1 : real(fd, data, bytes, at);
 }
 
 ssize_t pwrite64(int fd, const void* data, size_t bytes, off_t at) {
-  if (fails(bytes)) {
-    errno = ENOSPC;
-    return -1;
-  }
-  static const auto real = next<ssize_t (*)(int, const void*, size_t, off_t)>("pwrite64");
-  return real(fd, data, bytes, at);
+  static const Pwrite real = next<Pwrite>("pwrite64");
+  return refused(bytes) ? -1 : real(fd, data, bytes, at);
 }
 
 ssize_t pwritev(int fd, const struct iovec* pieces, int count, off_t at) {
-  if (fails(total(pieces, count))) {
-    errno = ENOSPC;
-    return -1;
-  }
-  static const auto real = next<ssize_t (*)(int, const struct iovec*, int, off_t)>("pwritev");
-  return real(fd, pieces, count, at);
+  static const Pwritev real = next<Pwritev>("pwritev");
+  return refused(total(pieces, count)) ? -1 : real(fd, pieces, count, at);
 }
 
 ssize_t pwritev64(int fd, const struct iovec* pieces, int count, off_t at) {
-  if (fails(total(pieces, count))) {
-    errno = ENOSPC;
-    return -1;
-  }
-  static const auto real = next<ssize_t (*)(int, const struct iovec*, int, off_t)>("pwritev64");
-  return real(fd, pieces, count, at);
+  static const Pwritev real = next<Pwritev>("pwritev64");
+  return refused(total(pieces, count)) ? -1 : real(fd, pieces, count, at);
 }
 
 }  // extern "C"
