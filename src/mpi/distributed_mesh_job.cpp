@@ -56,6 +56,14 @@ class OneChunk final : public SlabRecorder::Handover {
   Cancellation cancellation_;
 };
 
+// The triangles the polygons counted in `c` split into: a polygon of n corners, n - 2.
+std::uint64_t triangles_of(const EngineCounters& c) {
+  std::uint64_t triangles = 0;
+  for (int size = 3; size <= kMaxPolygonVertices; ++size)
+    triangles += std::uint64_t(size - 2) * c.polygons_by_size[size];
+  return triangles;
+}
+
 void check_distributable(const SliceSource& source, const MeshJob& job) {
   if (job.output == "-")
     throw UsageError("-o",
@@ -284,12 +292,10 @@ void RankRun::count() {
 
 PartShape RankRun::planned_shape(const SlabSummary& summary) const {
   const EngineCounters& c = summary.counters;
-  std::uint64_t polygons = 0, triangles = 0, polygon_bytes = 0;
-  for (int size = 3; size <= kMaxPolygonVertices; ++size) {
-    polygons += c.polygons_by_size[size];
-    triangles += std::uint64_t(size - 2) * c.polygons_by_size[size];
+  const std::uint64_t triangles = triangles_of(c);
+  std::uint64_t polygon_bytes = 0;
+  for (int size = 3; size <= kMaxPolygonVertices; ++size)
     polygon_bytes += ply_face_record_bytes(size) * c.polygons_by_size[size];
-  }
   PartShape shape;
   if (job_.format == MeshFormat::stl) {
     shape.faces = triangles;
@@ -298,7 +304,7 @@ PartShape RankRun::planned_shape(const SlabSummary& summary) const {
   }
   const std::uint64_t own_vertices = c.vertices - c.shared_vertices;
   shape.vertex_bytes = ply_vertex_record_bytes(whole_mesh_.writes_normals()) * own_vertices;
-  shape.faces = whole_mesh_.triangulate ? triangles : polygons;
+  shape.faces = whole_mesh_.triangulate ? triangles : c.polygons;
   shape.face_bytes = whole_mesh_.triangulate ? ply_face_record_bytes(3) * triangles : polygon_bytes;
   return shape;
 }
@@ -344,13 +350,10 @@ void RankRun::check_placed_part() const {
 
 void RankRun::check_format_limits() const {
   const EngineCounters& c = whole_.counters();
-  std::uint64_t triangles = 0;
-  for (int size = 3; size <= kMaxPolygonVertices; ++size)
-    triangles += std::uint64_t(size - 2) * c.polygons_by_size[size];
   const bool triangles_only = job_.format == MeshFormat::stl || job_.mesh.triangulate;
   try {
     (void)mesh_file_head(job_.format, whole_mesh_, c.vertices,
-                         triangles_only ? triangles : c.polygons);
+                         triangles_only ? triangles_of(c) : c.polygons);
   } catch (const Error& error) {
     throw Error(job_.output, error.problem());
   }

@@ -22,8 +22,7 @@ const MeshWriterOptions& checked(MeshFormat format, const MeshWriterOptions& opt
 }  // namespace
 
 std::uint64_t PlacedPartWriter::working_bytes() {
-  // MeshWriter's batches take under 512 KiB (mesh_writer_working_bytes).
-  return 2 * BufferedWriter::kBufferBytes + 512 * 1024;
+  return 2 * BufferedWriter::kBufferBytes + kMeshWriterBatchBytes;
 }
 
 PlacedPartWriter::PlacedPartWriter(MeshFormat format, const MeshWriterOptions& options,

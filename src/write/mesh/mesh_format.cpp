@@ -43,13 +43,9 @@ std::optional<MeshFormat> mesh_format_of_path(const std::string& path) {
 
 std::uint64_t mesh_writer_working_bytes(MeshFormat format) {
   const std::uint64_t files = format == MeshFormat::obj ? 1 : format == MeshFormat::stl ? 2 : 3;
-  // The batches of MeshWriter: placed vertices and normals of a vertex batch (36 bytes each), a
-  // waiting polygon batch (32 each), and a run of faces with their positions: under 512 KiB for
-  // the engine's 4096-entry batches.
   // Each file's buffer may have a second one while the first is written in the background
   // (buffered_writer.h).
-  constexpr std::uint64_t kBatchBytes = 512 * 1024;
-  return files * 2 * BufferedWriter::kBufferBytes + kBatchBytes;
+  return files * 2 * BufferedWriter::kBufferBytes + kMeshWriterBatchBytes;
 }
 
 bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options) {

@@ -25,6 +25,11 @@ std::optional<MeshFormat> mesh_format_named(const std::string& name);
 // nothing (another extension, none, or "-" for standard output).
 std::optional<MeshFormat> mesh_format_of_path(const std::string& path);
 
+// The batches every MeshWriter keeps, whatever the format: placed vertices and normals of a
+// vertex batch (36 bytes each), a waiting polygon batch (32 each), and a run of faces with their
+// positions: under 512 KiB for the engine's 4096-entry batches.
+constexpr std::uint64_t kMeshWriterBatchBytes = 512 * 1024;
+
 // The most memory a writer of `format` takes, whatever the mesh size: its write buffers
 // (BufferedWriter, one per file and spool file: PLY keeps faces, and on a pipe vertices too, in
 // spool files; STL keeps triangles in one on a pipe), and the shared MeshWriter's batches.
