@@ -48,12 +48,13 @@ class DiscardingMeshWriter final : public MeshWriter {
   std::uint64_t vertices_ = 0, faces_ = 0;
 };
 
-// The engines alone: `threads` threads each extract slabs t, t + threads, ... of the volume in
-// memory into a sink that only counts (Engine::begin_slab), with no output handed anywhere.
-// The bound the slab pipeline could reach if its output cost nothing; returns the polygons.
-std::uint64_t engines_alone(const unsigned char* samples, const VolumeInfo& info,
-                            double threshold, const EngineOptions& options, unsigned threads) {
-  const std::uint32_t slab_slices = slab_slices_of(info, 0);
+// The engines alone: `threads` threads each extract slabs t, t + threads, ... of `slab_slices`
+// slices of the volume in memory into a sink that only counts (Engine::begin_slab), with no
+// output handed anywhere. The bound the slab pipeline could reach if its output cost nothing;
+// with one slab of the whole depth, one engine's own rate. Returns the polygons.
+std::uint64_t engines_alone(const unsigned char* samples, const VolumeInfo& info, double threshold,
+                            const EngineOptions& options, unsigned threads,
+                            std::uint32_t slab_slices) {
   const std::uint32_t slabs = (info.depth + slab_slices - 1) / slab_slices;
   const std::size_t row = std::size_t{info.width} * sample_bytes(info.type);
   const std::size_t slice = row * info.height;
@@ -76,8 +77,8 @@ std::uint64_t engines_alone(const unsigned char* samples, const VolumeInfo& info
         const std::uint32_t end = std::min(info.depth, first + slab_slices);
         CountingSink sink;
         Engine engine;
-        Status status = engine.init(workspace.data(), workspace.bytes(), info.width,
-                                    info.height, threshold, options, &sink);
+        Status status = engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
+                                    threshold, options, &sink);
         if (status == Status::ok && first > 0)
           status = engine.begin_slab(view_of(first - 1), first);
         for (std::uint32_t z = first; z < end && status == Status::ok; ++z)
@@ -131,13 +132,14 @@ int run(int argc, char** argv) {
   EngineOptions engine;
   // Column 0: one engine; column t: the slab pipeline with t workers.
   std::vector<std::vector<double>> seconds(max_threads + 1);
-  std::vector<std::vector<double>> alone(max_threads + 1);  // engines alone, 1..N threads
+  // Engines alone: column 0 one engine over the whole depth, column t t threads on slabs.
+  std::vector<std::vector<double>> alone(max_threads + 1);
   std::uint64_t polygons = 0;
   for (int round = 0; round < runs; ++round) {
     for (unsigned threads = 0; threads <= max_threads; ++threads) {
-      MemoryVolumeSource source(samples.data(), info, static_cast<std::ptrdiff_t>(slice_bytes),
-                                static_cast<std::ptrdiff_t>(std::size_t{info.width} *
-                                                            sample_bytes(info.type)));
+      MemoryVolumeSource source(
+          samples.data(), info, static_cast<std::ptrdiff_t>(slice_bytes),
+          static_cast<std::ptrdiff_t>(std::size_t{info.width} * sample_bytes(info.type)));
       DiscardingMeshWriter writer;
       const auto start = Clock::now();
       PipelineResult result;
@@ -150,10 +152,11 @@ int run(int argc, char** argv) {
       }
       seconds[threads].push_back(std::chrono::duration<double>(Clock::now() - start).count());
       if (threads == 0) polygons = result.counters.polygons;
-      if (threads > 0) {
+      {
         const auto alone_start = Clock::now();
         const std::uint64_t counted =
-            engines_alone(samples.data(), info, threshold, engine, threads);
+            engines_alone(samples.data(), info, threshold, engine, std::max(threads, 1u),
+                          threads == 0 ? info.depth : slab_slices_of(info, 0));
         alone[threads].push_back(std::chrono::duration<double>(Clock::now() - alone_start).count());
         if (counted != polygons) {
           std::fprintf(stderr, "engines alone, %u threads: %llu polygons, one engine %llu\n",
@@ -185,6 +188,7 @@ int run(int argc, char** argv) {
     row("slab pipeline, " + std::to_string(threads) + " worker" + (threads > 1 ? "s" : "") +
             ", into a mesh writer",
         median(seconds[threads]));
+  row("one engine, counting only (the whole depth, one slab)", median(alone[0]));
   for (unsigned threads = 1; threads <= max_threads; ++threads)
     row(std::to_string(threads) + " engine" + (threads > 1 ? "s" : "") +
             " on slabs, counting only (no output handed on)",

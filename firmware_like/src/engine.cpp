@@ -431,9 +431,11 @@ class VertexTails {
 // PASS 2 for one plane: a vertex for every edge whose two voxels differ, row by row in increasing
 // column, numbered from `first_index`. `rows_of(r)` gives the plane's row r as EdgeRows. Fills
 // the plane's bits and prefix counts when it has them (the literal engine's rank queries).
-template <bool kUpperIsNextColumn, typename RowsOf>
+// Without kEmit the vertices are only numbered (counted), none is made: begin_slab() needs the
+// previous slab's last plane numbered, and its vertices would only be thrown away.
+template <bool kUpperIsNextColumn, bool kEmit = true, typename RowsOf>
 bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
-                 const PlaneGeometry& geometry, float z, Emitter& emitter) {
+                 const PlaneGeometry& geometry, float z, Emitter* emitter) {
   plane.base = first_index;
   const std::uint32_t words = plane.row_words;
   const float vertex_z = z + geometry.dz;
@@ -460,7 +462,11 @@ bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
         plane.prefix[r * words + w] = count;
       }
       if (!edges) continue;
-      if (Vertex* const first = emitter.reserve_vertices(64)) {
+      if constexpr (!kEmit) {
+        count += static_cast<std::uint32_t>(set_bit_count(edges));
+        continue;
+      }
+      if (Vertex* const first = emitter->reserve_vertices(64)) {
         // The common case: the whole word's vertices written in place, with no test between.
         Vertex* out = first;
         for (; edges; edges &= edges - 1, ++out) {
@@ -471,13 +477,13 @@ bool build_plane(EdgePlane& plane, std::uint32_t first_index, RowsOf rows_of,
         }
         const std::uint32_t written = static_cast<std::uint32_t>(out - first);
         count += written;
-        if (!emitter.commit_vertices(written)) return false;
+        if (!emitter->commit_vertices(written)) return false;
         continue;
       }
       for (; edges; edges &= edges - 1) {
         const int bit = lowest_set_bit(edges);
         const float x = static_cast<float>(w * 64 + static_cast<std::uint32_t>(bit)) + geometry.dx;
-        if (!emitter.vertex(x, y, vertex_z, geometry.axis, (lower >> bit & 1) != 0)) return false;
+        if (!emitter->vertex(x, y, vertex_z, geometry.axis, (lower >> bit & 1) != 0)) return false;
         ++count;
       }
     }
@@ -495,8 +501,10 @@ namespace {
 
 // Vertices on the x- and y-edges of slice `z` (in `slot`), then on the z-edges between the slice
 // in the other slot (z - 1) and it. Column j of a padded row is voxel x = j - 1 (bit_rows.h).
+// Without kEmit they are numbered, not made, and `emitter` may be null (build_plane).
+template <bool kEmit = true>
 bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t height,
-                   bool with_slice_edges, bool with_z_edges, Emitter& emitter,
+                   bool with_slice_edges, bool with_z_edges, Emitter* emitter,
                    std::uint64_t first_index) {
   const std::uint32_t words = st.row_words;
   const std::uint64_t* rows = st.inner[slot];
@@ -507,7 +515,7 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
   if (with_slice_edges) {
     // x-edge j joins padded columns j and j + 1, voxels x = j - 1 and x = j.
     EdgePlane& xp = st.x_edges[slot];
-    if (!build_plane<true>(
+    if (!build_plane<true, kEmit>(
             xp, next_index,
             [&](std::uint32_t y) {
               const std::uint64_t* row = rows + std::size_t{y} * words;
@@ -519,7 +527,7 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
 
     // y-edge row r joins voxel rows r - 1 and r (r = 0 and r = height meet the outside).
     EdgePlane& yp = st.y_edges[slot];
-    if (!build_plane<false>(
+    if (!build_plane<false, kEmit>(
             yp, next_index,
             [&](std::uint32_t r) {
               return EdgeRows{st.row(slot, std::int64_t{r} - 1, height), st.row(slot, r, height),
@@ -533,7 +541,7 @@ bool emit_vertices(EngineState& st, int slot, std::uint32_t z, std::uint32_t hei
   if (!with_z_edges) return true;
 
   // z-edges between slice z - 1 (other slot) and slice z.
-  return build_plane<false>(
+  return build_plane<false, kEmit>(
       st.z_edges, next_index,
       [&](std::uint32_t y) {
         return EdgeRows{below + std::size_t{y} * words, rows + std::size_t{y} * words,
@@ -945,7 +953,7 @@ Status Engine::emit_layer(detail::EngineState& st, std::uint32_t z, bool real_sl
   const int hi = static_cast<int>(z & 1), lo = hi ^ 1;
   Emitter emitter(st, counters_);
   const bool ok =
-      emit_vertices(st, hi, z, height_, real_slice, true, emitter, counters_.vertices) &&
+      emit_vertices(st, hi, z, height_, real_slice, true, &emitter, counters_.vertices) &&
       emitter.flush_vertices() && emit_layer_polygons(st, lo, hi, z, width_, height_, emitter) &&
       emitter.flush_polygons();
   return ok ? Status::ok : emitter.status();
@@ -998,21 +1006,6 @@ Status Engine::finish() {
   return Status::ok;
 }
 
-namespace {
-
-// Takes the previous slab's vertices that begin_slab() numbers but must not emit.
-class DiscardingSink final : public PolygonSink {
- public:
-  Status consume_vertices(const Vertex*, std::size_t) override { return Status::ok; }
-  Status consume_polygons(const Polygon*, std::size_t) override { return Status::ok; }
-};
-
-// Stateless, so one serves every engine and thread; at namespace scope, so that it needs no
-// guard variable and no destructor registration.
-DiscardingSink discarding_sink;
-
-}  // namespace
-
 Status Engine::begin_slab(const SliceView& previous, std::uint32_t first_slice) {
   if (failure_ != Status::ok) return failure_;
   if (first_slice == 0 || counters_.slices != 0 || first_slice_ != 0 || counters_.vertices != 0)
@@ -1035,16 +1028,10 @@ Status Engine::begin_slab(const SliceView& previous, std::uint32_t first_slice) 
     st.literal.advance();  // the layer below `previous` is the previous slab's
   }
 
-  // Its x- and y-edge vertices numbered from 0 into the planes, sent nowhere.
-  PolygonSink* const sink = st.sink;
-  st.sink = &discarding_sink;
-  bool ok = false;
-  {
-    Emitter emitter(st, counters_);
-    ok = emit_vertices(st, hi, z, height_, true, false, emitter, 0) && emitter.flush_vertices();
-  }
-  st.sink = sink;
-  if (!ok) return fail(Status::sink_refused);  // the discarding sink never refuses: not reached
+  // Its x- and y-edge vertices numbered from 0 into the planes; none is made, the previous slab
+  // emits them.
+  (void)emit_vertices<false>(st, hi, z, height_, true, false, nullptr, 0);
+  counters_.vertices = std::uint64_t{st.x_edges[hi].count} + st.y_edges[hi].count;
   counters_.shared_vertices = counters_.vertices;
   first_slice_ = first_slice;
   return Status::ok;
