@@ -4,11 +4,13 @@
 
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <vector>
 
 #include "error.h"
+#include "read/image_stack/png_plain_decoder.h"
 
 namespace mvox {
 namespace {
@@ -25,6 +27,7 @@ struct Decoding {
   const unsigned char* bytes;
   std::size_t size;
   std::size_t position;
+  std::size_t allocation_limit;  // allocations past this are refused (allocate())
   char error[200];
 };
 
@@ -40,6 +43,17 @@ void on_error(png_structp png, png_const_charp message) {
   std::snprintf(decoding->error, sizeof decoding->error, "%s", message);
   png_longjmp(png, 1);
 }
+
+// libpng reads a text chunk whole, allocating its declared length before reading it: a 95-byte
+// file declaring 600 MB had it allocate 600 MB (found by fuzz/png_slice_decoder_fuzzer). No
+// buffer a decode needs is larger than the file or a few rows, so larger requests are refused:
+// libpng then skips the chunk, and reading past the end of the file fails as before.
+png_voidp allocate(png_structp png, png_alloc_size_t bytes) {
+  const auto* decoding = static_cast<const Decoding*>(png_get_mem_ptr(png));
+  return bytes <= decoding->allocation_limit ? std::malloc(bytes) : nullptr;
+}
+
+void release(png_structp, png_voidp memory) { std::free(memory); }
 
 // Warnings concern ancillary chunks (an unknown one, a wrong sRGB profile); the samples are
 // good, and libpng would print each on standard error.
@@ -91,10 +105,26 @@ bool is_plain_grey_png(const unsigned char* bytes, std::size_t size) {
 }
 
 void decode_png_slice(const std::string& path, const unsigned char* bytes, std::size_t size,
-                      const PngDestination& destination) {
-  Decoding decoding{bytes, size, 0, ""};
-  png_structp png =
-      png_create_read_struct(PNG_LIBPNG_VER_STRING, &decoding, &on_error, &on_warning);
+                      const PngDestination& slice_destination) {
+  // The destination is asked for once, whichever decoder asks (the same header gives both the
+  // same size and type).
+  unsigned char* slice = nullptr;
+  const PngDestination destination = [&](std::uint32_t width, std::uint32_t height,
+                                         SampleType type) {
+    if (slice == nullptr) slice = slice_destination(width, height, type);
+    return slice;
+  };
+  if (!decode_plain_grey_png(bytes, size, destination))
+    decode_png_with_libpng(path, bytes, size, destination);
+}
+
+void decode_png_with_libpng(const std::string& path, const unsigned char* bytes, std::size_t size,
+                            const PngDestination& destination) {
+  // The widest row libpng handles here: 16-bit grey, 2 bytes a pixel (IHDR's width, at 16).
+  const std::size_t widest = size >= 20 ? big_endian_32(bytes + 16) : 0;
+  Decoding decoding{bytes, size, 0, size + 8 * 2 * widest + (std::size_t{1} << 20), ""};
+  png_structp png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, &decoding, &on_error,
+                                             &on_warning, &decoding, &allocate, &release);
   png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
   if (info == nullptr) {
     png_destroy_read_struct(&png, nullptr, nullptr);

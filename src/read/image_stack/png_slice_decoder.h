@@ -1,7 +1,10 @@
 #pragma once
-// Decodes grey PNG slices with libpng directly, so that a PNG stack (what scanners and pipelines
-// export most) never loads OpenCV: OpenCV's image codecs cost a run ~140 ms and ~50 MiB before
-// the first slice (modules/image_codecs.h).
+// Decodes grey PNG slices without OpenCV, so that a PNG stack (what scanners and pipelines
+// export most) never loads it: OpenCV's image codecs cost a run ~140 ms and ~50 MiB before the
+// first slice (modules/image_codecs.h). Regular 8- and 16-bit non-interlaced files, nearly every
+// slice a scanner writes, are inflated and unfiltered by png_plain_decoder.h, several times
+// faster than libpng's row-by-row loop; every other grey PNG, and any file that one finds
+// irregular, is read by libpng.
 //
 // It gives exactly the samples OpenCV's cv::imdecode(IMREAD_ANYDEPTH | IMREAD_ANYCOLOR) gives
 // for the same file (tests/host/png_slice_decoder_test.cpp compares them): 8- and 16-bit grey
@@ -26,11 +29,16 @@ using PngDestination =
 // colour type 0 (grey) and no tRNS chunk before the image data. Reads only chunk headers.
 bool is_plain_grey_png(const unsigned char* bytes, std::size_t size);
 
-// Decodes the grey PNG `bytes` (`size` bytes), read from `path`, into `destination`.
-// Precondition: is_plain_grey_png(bytes, size). Throws mvox::Error(path, "cannot decode PNG:
-// " + libpng's reason) when libpng finds an error; libpng's warnings (an unknown or damaged
-// ancillary chunk) do not stop it, and nothing is written on standard error.
+// Decodes the grey PNG `bytes` (`size` bytes), read from `path`, into `destination`, which is
+// called once. Precondition: is_plain_grey_png(bytes, size). Throws mvox::Error(path, "cannot
+// decode PNG: " + libpng's reason) when libpng finds an error; libpng's warnings (an unknown or
+// damaged ancillary chunk) do not stop it, and nothing is written on standard error.
 void decode_png_slice(const std::string& path, const unsigned char* bytes, std::size_t size,
                       const PngDestination& destination);
+
+// decode_png_slice with libpng alone, as it was before the plain decoder: what the fuzzer
+// (fuzz/png_slice_decoder_fuzzer.cpp) compares the plain decoder's samples with.
+void decode_png_with_libpng(const std::string& path, const unsigned char* bytes, std::size_t size,
+                            const PngDestination& destination);
 
 }  // namespace mvox
