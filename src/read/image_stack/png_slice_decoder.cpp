@@ -4,10 +4,8 @@
 
 #include <csetjmp>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <exception>
-#include <vector>
 
 #include "error.h"
 #include "read/image_stack/png_plain_decoder.h"
@@ -27,7 +25,6 @@ struct Decoding {
   const unsigned char* bytes;
   std::size_t size;
   std::size_t position;
-  std::size_t allocation_limit;  // allocations past this are refused (allocate())
   char error[200];
 };
 
@@ -44,24 +41,13 @@ void on_error(png_structp png, png_const_charp message) {
   png_longjmp(png, 1);
 }
 
-// libpng reads a text chunk whole, allocating its declared length before reading it: a 95-byte
-// file declaring 600 MB had it allocate 600 MB (found by fuzz/png_slice_decoder_fuzzer). No
-// buffer a decode needs is larger than the file or a few rows, so larger requests are refused:
-// libpng then skips the chunk, and reading past the end of the file fails as before.
-png_voidp allocate(png_structp png, png_alloc_size_t bytes) {
-  const auto* decoding = static_cast<const Decoding*>(png_get_mem_ptr(png));
-  return bytes <= decoding->allocation_limit ? std::malloc(bytes) : nullptr;
-}
-
-void release(png_structp, png_voidp memory) { std::free(memory); }
-
 // Warnings concern ancillary chunks (an unknown one, a wrong sRGB profile); the samples are
 // good, and libpng would print each on standard error.
 void on_warning(png_structp, png_const_charp) {}
 
 // PASS 1: the header. Returns false (with decoding->error set) when libpng fails.
 bool read_header(png_structp png, png_infop info, png_uint_32* width, png_uint_32* height,
-                 int* bit_depth) {
+                 int* bit_depth, int* passes) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_read_info(png, info);
   int color_type = 0;
@@ -73,17 +59,37 @@ bool read_header(png_structp png, png_infop info, png_uint_32* width, png_uint_3
     std::memcpy(&first, &one, 1);
     if (first == 1) png_set_swap(png);  // PNG stores 16-bit samples big-endian
   }
-  png_set_interlace_handling(png);
+  *passes = png_set_interlace_handling(png);  // 7 for Adam7, else 1
   png_read_update_info(png, info);
   return true;
 }
 
-// PASS 2: the samples, into rows set up by the caller. Returns false when libpng fails.
-bool read_rows(png_structp png, png_infop info, png_bytepp rows) {
+// PASS 2: the samples, `height` rows of `row_bytes` into `samples`, each row once per pass (as
+// png_read_image does, but without its array of a pointer per row: 8 bytes a row, eight times
+// the slice itself for a slice one 8-bit sample wide; found by fuzz/png_slice_decoder_fuzzer).
+// Returns false when libpng fails.
+bool read_rows(png_structp png, png_infop info, unsigned char* samples, std::size_t row_bytes,
+               png_uint_32 height, int passes) {
   if (setjmp(png_jmpbuf(png))) return false;
-  png_read_image(png, rows);
+  for (int pass = 0; pass < passes; ++pass)
+    for (png_uint_32 y = 0; y < height; ++y) png_read_row(png, samples + y * row_bytes, nullptr);
   png_read_end(png, info);
   return true;
+}
+
+// libpng allocates a text chunk's declared length before reading it: a 95-byte file declaring
+// 600 MB had it allocate 600 MB (found by fuzz/png_slice_decoder_fuzzer; image stacks check
+// their files first, image_file_check.h, and never gave it one). A chunk before IEND that does
+// not fit in the file is refused here, as reading it would be.
+void check_chunk_lengths(const std::string& path, const unsigned char* bytes, std::size_t size) {
+  std::size_t at = 8;
+  while (size >= 8 && at <= size - 8) {
+    const std::uint32_t length = big_endian_32(bytes + at);
+    if (length > size - at - 8 || size - at - 8 - length < 4)
+      throw Error(path, "cannot decode PNG: the file ends inside a chunk");
+    if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) return;
+    at += std::size_t{length} + 12;
+  }
 }
 
 }  // namespace
@@ -120,11 +126,10 @@ void decode_png_slice(const std::string& path, const unsigned char* bytes, std::
 
 void decode_png_with_libpng(const std::string& path, const unsigned char* bytes, std::size_t size,
                             const PngDestination& destination) {
-  // The widest row libpng handles here: 16-bit grey, 2 bytes a pixel (IHDR's width, at 16).
-  const std::size_t widest = size >= 20 ? big_endian_32(bytes + 16) : 0;
-  Decoding decoding{bytes, size, 0, size + 8 * 2 * widest + (std::size_t{1} << 20), ""};
-  png_structp png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, &decoding, &on_error,
-                                             &on_warning, &decoding, &allocate, &release);
+  check_chunk_lengths(path, bytes, size);
+  Decoding decoding{bytes, size, 0, ""};
+  png_structp png =
+      png_create_read_struct(PNG_LIBPNG_VER_STRING, &decoding, &on_error, &on_warning);
   png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
   if (info == nullptr) {
     png_destroy_read_struct(&png, nullptr, nullptr);
@@ -133,6 +138,9 @@ void decode_png_with_libpng(const std::string& path, const unsigned char* bytes,
   // libpng's own limits (1,000,000 pixels a side by default) are lifted: the header was already
   // checked against mvox's (image_header.h), and a slice may be wider than libpng assumes.
   png_set_user_limits(png, 0x7fffffff, 0x7fffffff);
+  // A compressed text or profile chunk is inflated whole: past the file's size and a mebibyte,
+  // libpng skips it with a warning, so that a small file cannot make it inflate gigabytes.
+  png_set_chunk_malloc_max(png, size + (std::size_t{1} << 20));
   png_set_read_fn(png, &decoding, &read_bytes);
 
   struct Cleanup {
@@ -143,7 +151,8 @@ void decode_png_with_libpng(const std::string& path, const unsigned char* bytes,
 
   png_uint_32 width = 0, height = 0;
   int bit_depth = 0;
-  if (!read_header(png, info, &width, &height, &bit_depth))
+  int passes = 1;
+  if (!read_header(png, info, &width, &height, &bit_depth, &passes))
     throw Error(path, std::string("cannot decode PNG: ") + decoding.error);
   const SampleType type = bit_depth == 16 ? SampleType::u16 : SampleType::u8;
   const std::size_t row_bytes = std::size_t{width} * sample_bytes(type);
@@ -151,9 +160,7 @@ void decode_png_with_libpng(const std::string& path, const unsigned char* bytes,
     throw Error(path, "cannot decode PNG: rows of " + std::to_string(png_get_rowbytes(png, info)) +
                           " bytes, expected " + std::to_string(row_bytes));
   unsigned char* samples = destination(width, height, type);
-  std::vector<png_bytep> rows(height);
-  for (png_uint_32 y = 0; y < height; ++y) rows[y] = samples + y * row_bytes;
-  if (!read_rows(png, info, rows.data()))
+  if (!read_rows(png, info, samples, row_bytes, height, passes))
     throw Error(path, std::string("cannot decode PNG: ") + decoding.error);
 }
 
