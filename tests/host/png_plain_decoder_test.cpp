@@ -50,12 +50,13 @@ Bytes file_of(const std::vector<Chunk>& chunks) {
   return out;
 }
 
-Chunk ihdr(std::uint32_t width, std::uint32_t height, int bit_depth, int interlace = 0) {
+Chunk ihdr(std::uint32_t width, std::uint32_t height, int bit_depth, int interlace = 0,
+           int colour = 0, int compression = 0, int filter = 0) {
   Bytes data;
   put_32(data, width);
   put_32(data, height);
-  data.insert(data.end(), {static_cast<unsigned char>(bit_depth), 0, 0, 0,
-                           static_cast<unsigned char>(interlace)});
+  for (int field : {bit_depth, colour, compression, filter, interlace})
+    data.push_back(static_cast<unsigned char>(field));
   return {"IHDR", data};
 }
 
@@ -197,6 +198,24 @@ TEST(PngPlainDecoder, EveryFilterGivesTheSamplesItEncodes) {
   }
 }
 
+// An empty IDAT chunk among the others, and rows wider than a batch (one row inflated at a time).
+TEST(PngPlainDecoder, ReadsEmptyIdatChunksAndRowsWiderThanABatch) {
+  const Image image = random_image(33, 17, 8, 12);
+  const Bytes stream = compressed(filtered(image, {4, 3, 2, 1, 0}));
+  std::vector<Chunk> idat = idat_chunks(stream, 50);
+  idat.insert(idat.begin() + 1,
+              Chunk{"IDAT", {}});  // (one after the stream's end is left to libpng)
+  Decoded decoded = plain(png_of(image, {}, idat, {}));
+  ASSERT_TRUE(decoded.decoded);
+  EXPECT_TRUE(decoded.samples == native_samples(image));
+  for (const auto& [width, bit_depth] : {std::pair{70000u, 8}, std::pair{40000u, 16}}) {
+    const Image wide = random_image(width, 3, bit_depth, width);
+    decoded = plain(png_of(wide, {}, {{"IDAT", compressed(filtered(wide, {1, 4, 3}))}}, {}));
+    ASSERT_TRUE(decoded.decoded) << width << " wide, " << bit_depth << "-bit";
+    EXPECT_TRUE(decoded.samples == native_samples(wide)) << width << " wide, " << bit_depth;
+  }
+}
+
 // Written by libpng with its adaptive filters, text and gamma chunks before and after the image
 // data, and IDAT chunks of 256 bytes: the decoder reads what libpng writes, as libpng reads it.
 void append(png_structp png, png_bytep data, png_size_t count) {
@@ -302,6 +321,41 @@ TEST(PngPlainDecoder, LeavesEveryIrregularFileToLibpng) {
        Libpng::refuses},
       {"a chunk type that is not letters", png_of(image, {{"ab1d", Bytes(2, 0)}}, idat, {}),
        Libpng::refuses},
+      {"a damaged IEND CRC",
+       [&] {
+         std::vector<Chunk> chunks = {ihdr(33, 17, 8)};
+         chunks.insert(chunks.end(), idat.begin(), idat.end());
+         chunks.push_back({"IEND", {}, true});
+         return file_of(chunks);
+       }(),
+       Libpng::refuses},
+      {"IEND with data",
+       [&] {
+         std::vector<Chunk> chunks = {ihdr(33, 17, 8)};
+         chunks.insert(chunks.end(), idat.begin(), idat.end());
+         chunks.push_back({"IEND", Bytes(1, 0)});
+         return file_of(chunks);
+       }(),
+       Libpng::not_checked},
+      {"an unknown critical chunk after the image data",
+       png_of(image, {}, idat, {{"ABCD", Bytes(2, 0)}}), Libpng::refuses},
+      {"colour (RGB)", file_of({ihdr(33, 17, 8, 0, 2), {"IDAT", stream}, {"IEND", {}}}),
+       Libpng::not_checked},
+      {"compression method 1", file_of({ihdr(33, 17, 8, 0, 0, 1), {"IDAT", stream}, {"IEND", {}}}),
+       Libpng::refuses},
+      {"filter method 1", file_of({ihdr(33, 17, 8, 0, 0, 0, 1), {"IDAT", stream}, {"IEND", {}}}),
+       Libpng::refuses},
+      {"image data one byte short",
+       png_of(image, {}, {{"IDAT", compressed(Bytes(rows.begin(), rows.end() - 1))}}, {}),
+       Libpng::refuses},
+      {"image data one byte past the image",
+       png_of(image, {}, {{"IDAT", compressed([&] {
+                             Bytes longer = rows;
+                             longer.push_back(0);
+                             return longer;
+                           }())}},
+              {}),
+       Libpng::reads},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);

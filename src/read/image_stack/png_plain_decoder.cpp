@@ -16,6 +16,8 @@ constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, 
 // 258 bytes zlib's fast path needs, small enough to stay in the cache with the rows it is
 // unfiltered into.
 constexpr std::size_t kInflateBytes = std::size_t{64} << 10;
+// The most the rows buffer keeps between calls.
+constexpr std::size_t kKeptBytes = std::size_t{1} << 20;
 
 std::uint32_t big_endian_32(const unsigned char* p) {
   return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 | p[3];
@@ -254,12 +256,20 @@ bool decode_plain_grey_png(const unsigned char* bytes, std::size_t size,
   } while (!chunk.is("IDAT"));
 
   const SampleType type = header.bit_depth == 16 ? SampleType::u16 : SampleType::u8;
-  // A batch's size must fit zlib's 32-bit counts.
+  // Rows of 64 MiB or more go to libpng, row by row: they would need a buffer of two rows here,
+  // and zlib counts in 32 bits.
   if (std::size_t{header.width} * sample_bytes(type) >= kInflateBytes * 1024) return false;
   unsigned char* slice = destination(header.width, header.height, type);
   // Per thread, so that the workers of a slab-parallel run decode side by side without
   // allocating a buffer a slice.
   thread_local std::vector<unsigned char> rows;
+  // Given back on the way out, however it ends, when a wide image made it large.
+  struct Trim {
+    std::vector<unsigned char>& rows;
+    ~Trim() {
+      if (rows.capacity() > kKeptBytes) std::vector<unsigned char>().swap(rows);
+    }
+  } trim{rows};
   RowInflater inflater(header, slice, rows);
   do {
     if (!chunk.crc_ok() || !inflater.feed(chunk.data, chunk.length)) return false;

@@ -8,10 +8,11 @@
 //
 // Only regular files take this path: every chunk's length within the file, chunk types of
 // letters, IHDR first with its CRC, the IDAT chunks together and their CRCs, no critical chunk
-// but IHDR, IDAT and IEND, the zlib stream ending exactly where the last row does, and IEND with
-// its CRC. Anything else returns false and the file goes to libpng (png_slice_decoder.h), which
-// refuses it or reads it as it always did, so errors and their messages do not change; the
-// samples of a file read here are those libpng gives (tests/host/png_plain_decoder_test.cpp).
+// but IHDR, IDAT and IEND, the zlib stream ending exactly where the last row does and at the end
+// of an IDAT chunk, no IDAT after it, and IEND empty with its CRC. Anything else returns false
+// and the file goes to libpng (png_slice_decoder.h), which refuses it or reads it as it did
+// before this decoder; the samples of a file read here are those libpng gives
+// (tests/host/png_plain_decoder_test.cpp, fuzz/png_slice_decoder_fuzzer.cpp).
 #include <cstddef>
 
 #include "read/image_stack/png_slice_decoder.h"
@@ -21,8 +22,9 @@ namespace mvox {
 // Decodes `bytes` (`size` bytes) into `destination` when it is a regular 8- or 16-bit grey,
 // non-interlaced PNG (above); 16-bit samples come out in native byte order. Returns false, when
 // it is not, before or after calling `destination` (which may then be called again by the
-// caller's other decoder). May throw what `destination` throws, or std::bad_alloc. Keeps about
-// 64 KiB (two rows, if larger) per thread between calls, the rows it inflates into.
+// caller's other decoder). May throw what `destination` throws, or std::bad_alloc. Keeps the
+// rows it inflates into, 64 KiB and a row, per thread between calls; more than 1 MiB (rows of
+// over half a mebibyte) is given back after each call.
 bool decode_plain_grey_png(const unsigned char* bytes, std::size_t size,
                            const PngDestination& destination);
 

@@ -36,8 +36,10 @@ bool is_plain_grey_png(const unsigned char* bytes, std::size_t size);
 void decode_png_slice(const std::string& path, const unsigned char* bytes, std::size_t size,
                       const PngDestination& destination);
 
-// decode_png_slice with libpng alone, as it was before the plain decoder: what the fuzzer
-// (fuzz/png_slice_decoder_fuzzer.cpp) compares the plain decoder's samples with.
+// decode_png_slice with libpng alone: what the fuzzer (fuzz/png_slice_decoder_fuzzer.cpp)
+// compares the plain decoder's samples with. Before libpng sees the file, a chunk before IEND
+// that does not fit in it is refused, and libpng may inflate a compressed ancillary chunk to no
+// more than the file's size and a mebibyte (it skips a larger one, with a warning).
 void decode_png_with_libpng(const std::string& path, const unsigned char* bytes, std::size_t size,
                             const PngDestination& destination);
 
