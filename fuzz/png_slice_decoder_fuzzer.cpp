@@ -8,8 +8,6 @@
 // decoder either refuses in one printable line naming the file, or asks exactly once for the
 // slice and fills it.
 
-#include <zlib.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <new>
@@ -18,6 +16,7 @@
 
 #include "error.h"
 #include "fuzz_check.h"
+#include "read/image_stack/png_bytes.h"
 #include "read/image_stack/png_plain_decoder.h"
 #include "read/image_stack/png_slice_decoder.h"
 
@@ -53,10 +52,9 @@ std::vector<std::uint8_t> with_crcs_made_right(const std::uint8_t* data, std::si
   std::vector<std::uint8_t> out(data, data + size);
   std::size_t at = 8;
   while (at + 12 <= out.size()) {
-    const std::size_t length = std::size_t{out[at]} << 24 | std::size_t{out[at + 1]} << 16 |
-                               std::size_t{out[at + 2]} << 8 | out[at + 3];
+    const std::size_t length = mvox::png_uint32(out.data() + at);
     if (length > out.size() - at - 12) break;
-    const uLong crc = crc32(crc32(0, nullptr, 0), out.data() + at + 4, 4 + length);
+    const std::uint32_t crc = mvox::png_crc(out.data() + at + 4, 4 + length);
     for (int i = 0; i < 4; ++i)
       out[at + 8 + length + i] = static_cast<std::uint8_t>(crc >> (24 - 8 * i));
     at += length + 12;
@@ -71,10 +69,8 @@ void check(const std::uint8_t* data, std::size_t size) {
   // libpng allocates rows of the declared width before it asks for the slice. mvox sizes a
   // stack's slices from the first header, within its memory budget, before decoding; here
   // slices past the fuzzer's limit are skipped, as the destination below refuses them.
-  const std::uint64_t width = std::uint64_t{data[16]} << 24 | std::uint64_t{data[17]} << 16 |
-                              std::uint64_t{data[18]} << 8 | data[19];
-  const std::uint64_t height = std::uint64_t{data[20]} << 24 | std::uint64_t{data[21]} << 16 |
-                               std::uint64_t{data[22]} << 8 | data[23];
+  const std::uint64_t width = mvox::png_uint32(data + 16);
+  const std::uint64_t height = mvox::png_uint32(data + 20);
   if (width * height * 2 > kLimitBytes || width * 16 > kLimitBytes) return;
 
   Slice plain;

@@ -1,34 +1,13 @@
 #include "read/image_stack/image_file_check.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
 
+#include "read/image_stack/png_bytes.h"
+
 namespace mvox {
 namespace {
-
-constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-
-// CRC-32 as PNG defines it (ISO 3309), which is zlib's crc32; zlib's own is table-driven and
-// fast, so checking a slice costs a few percent of decoding it.
-std::uint32_t png_crc(const unsigned char* bytes, std::size_t size) {
-  std::uint32_t crc = static_cast<std::uint32_t>(::crc32(0L, Z_NULL, 0));
-  // zlib takes a uInt length: feed very large chunks in pieces.
-  while (size > 0) {
-    const uInt piece = static_cast<uInt>(std::min<std::size_t>(size, 1u << 30));
-    crc = static_cast<std::uint32_t>(::crc32(crc, bytes, piece));
-    bytes += piece;
-    size -= piece;
-  }
-  return crc;
-}
-
-std::uint32_t load_big_endian(const unsigned char* bytes) {
-  return std::uint32_t{bytes[0]} << 24 | std::uint32_t{bytes[1]} << 16 |
-         std::uint32_t{bytes[2]} << 8 | std::uint32_t{bytes[3]};
-}
 
 // The chunk type for messages: four letters, anything else shown as '?'.
 std::string chunk_name(const unsigned char* type) {
@@ -50,7 +29,7 @@ std::string png_problem(const unsigned char* bytes, std::size_t size) {
                                     : " inside the chunk header at byte " + std::to_string(at);
       return "truncated PNG: the file ends at byte " + std::to_string(size) + where;
     }
-    const std::uint32_t length = load_big_endian(bytes + at);
+    const std::uint32_t length = png_uint32(bytes + at);
     const unsigned char* type = bytes + at + 4;
     const std::string name = chunk_name(type);
     // PNG limits chunk lengths to 2^31 - 1.
@@ -64,7 +43,7 @@ std::string png_problem(const unsigned char* bytes, std::size_t size) {
              name + " chunk at byte " + std::to_string(at);
     }
     // The CRC covers the type and the data.
-    const std::uint32_t stored = load_big_endian(type + 4 + length);
+    const std::uint32_t stored = png_uint32(type + 4 + length);
     if (png_crc(type, 4 + std::size_t{length}) != stored)
       return "corrupt PNG: the " + name + " chunk at byte " + std::to_string(at) +
              " fails its CRC check";
@@ -85,8 +64,7 @@ std::string jpeg_problem(const unsigned char* bytes, std::size_t size) {
 }  // namespace
 
 std::string image_file_problem(const unsigned char* bytes, std::size_t size) {
-  if (size >= sizeof kPngSignature && std::memcmp(bytes, kPngSignature, sizeof kPngSignature) == 0)
-    return png_problem(bytes, size);
+  if (has_png_signature(bytes, size)) return png_problem(bytes, size);
   if (size >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff)
     return jpeg_problem(bytes, size);
   return "";

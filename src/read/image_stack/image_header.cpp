@@ -5,6 +5,7 @@
 
 #include "read/compression_bounds.h"
 #include "read/file_bytes.h"
+#include "read/image_stack/png_bytes.h"
 
 namespace mvox {
 namespace {
@@ -170,8 +171,7 @@ std::optional<ImageHeader> pnm_header(const unsigned char* bytes, std::size_t si
 }  // namespace
 
 std::optional<ImageHeader> parse_image_header(const unsigned char* bytes, std::size_t size) {
-  static constexpr unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (size >= 8 && std::memcmp(bytes, kPng, 8) == 0) return png_header(bytes, size);
+  if (has_png_signature(bytes, size)) return png_header(bytes, size);
   if (size >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff)
     return jpeg_header(bytes, size);
   if (size >= 2 && bytes[0] == 'B' && bytes[1] == 'M') return bmp_header(bytes, size);

@@ -8,20 +8,17 @@
 #include <cstring>
 #include <vector>
 
+#include "read/image_stack/png_bytes.h"
+
 namespace mvox {
 namespace {
 
-constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 // Rows are inflated into a buffer of about this many bytes (at least one row): far above the
 // 258 bytes zlib's fast path needs, small enough to stay in the cache with the rows it is
 // unfiltered into.
 constexpr std::size_t kInflateBytes = std::size_t{64} << 10;
 // The most the rows buffer keeps between calls.
 constexpr std::size_t kKeptBytes = std::size_t{1} << 20;
-
-std::uint32_t big_endian_32(const unsigned char* p) {
-  return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 | p[3];
-}
 
 bool is_letter(unsigned char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
 
@@ -34,8 +31,7 @@ struct Chunk {
   bool is(const char* name) const { return std::memcmp(type, name, 4) == 0; }
   bool critical() const { return (type[0] & 0x20) == 0; }  // an upper-case first letter
   bool crc_ok() const {
-    const uLong crc = crc32(crc32(0, nullptr, 0), type, 4 + length);
-    return crc == big_endian_32(data + length);
+    return png_crc(type, 4 + std::size_t{length}) == png_uint32(data + length);
   }
 };
 
@@ -47,7 +43,7 @@ class Chunks {
 
   bool next(Chunk* chunk) {
     if (size_ - at_ < 12) return false;
-    const std::uint32_t length = big_endian_32(bytes_ + at_);
+    const std::uint32_t length = png_uint32(bytes_ + at_);
     if (length > 0x7fffffffu || length > size_ - at_ - 12) return false;
     const unsigned char* type = bytes_ + at_ + 4;
     if (!is_letter(type[0]) || !is_letter(type[1]) || !is_letter(type[2]) || !is_letter(type[3]))
@@ -132,8 +128,8 @@ struct Header {
 bool read_header(const Chunk& chunk, Header* header) {
   if (!chunk.is("IHDR") || chunk.length != 13 || !chunk.crc_ok()) return false;
   const unsigned char* d = chunk.data;
-  header->width = big_endian_32(d);
-  header->height = big_endian_32(d + 4);
+  header->width = png_uint32(d);
+  header->height = png_uint32(d + 4);
   header->bit_depth = d[8];
   const bool size_ok = header->width >= 1 && header->width <= 0x7fffffffu && header->height >= 1 &&
                        header->height <= 0x7fffffffu;
@@ -244,7 +240,7 @@ class RowInflater {
 
 bool decode_plain_grey_png(const unsigned char* bytes, std::size_t size,
                            const PngDestination& destination) {
-  if (size < 8 || std::memcmp(bytes, kSignature, 8) != 0) return false;
+  if (!has_png_signature(bytes, size)) return false;
   Chunks chunks(bytes, size);
   Chunk chunk;
   Header header;

@@ -8,16 +8,11 @@
 #include <exception>
 
 #include "error.h"
+#include "read/image_stack/png_bytes.h"
 #include "read/image_stack/png_plain_decoder.h"
 
 namespace mvox {
 namespace {
-
-std::uint32_t big_endian_32(const unsigned char* p) {
-  return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 | p[3];
-}
-
-constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 
 // Everything libpng's callbacks and the jump back need. Plain data only: libpng leaves a
 // function by longjmp, which would skip the destructors of C++ objects in the frames between.
@@ -84,7 +79,7 @@ bool read_rows(png_structp png, png_infop info, unsigned char* samples, std::siz
 void check_chunk_lengths(const std::string& path, const unsigned char* bytes, std::size_t size) {
   std::size_t at = 8;
   while (size >= 8 && at <= size - 8) {
-    const std::uint32_t length = big_endian_32(bytes + at);
+    const std::uint32_t length = png_uint32(bytes + at);
     if (length > size - at - 8 || size - at - 8 - length < 4)
       throw Error(path, "cannot decode PNG: the file ends inside a chunk");
     if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) return;
@@ -95,13 +90,13 @@ void check_chunk_lengths(const std::string& path, const unsigned char* bytes, st
 }  // namespace
 
 bool is_plain_grey_png(const unsigned char* bytes, std::size_t size) {
-  if (size < 8 + 25 || std::memcmp(bytes, kSignature, 8) != 0) return false;
-  if (std::memcmp(bytes + 12, "IHDR", 4) != 0 || big_endian_32(bytes + 8) != 13) return false;
+  if (size < 8 + 25 || !has_png_signature(bytes, size)) return false;
+  if (std::memcmp(bytes + 12, "IHDR", 4) != 0 || png_uint32(bytes + 8) != 13) return false;
   if (bytes[8 + 8 + 9] != 0) return false;  // colour type: 0 is grey without alpha
   // A tRNS chunk, which makes one grey value transparent, comes before the first IDAT.
   std::size_t at = 8;
   while (at + 8 <= size) {
-    const std::uint32_t length = big_endian_32(bytes + at);
+    const std::uint32_t length = png_uint32(bytes + at);
     if (std::memcmp(bytes + at + 4, "tRNS", 4) == 0) return false;
     if (std::memcmp(bytes + at + 4, "IDAT", 4) == 0) return true;
     if (length > size - at - 8) return true;  // cut short: libpng says so
