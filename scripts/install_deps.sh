@@ -12,6 +12,7 @@ packages=(
   zlib1g-dev                                                        # gzip NRRD and compressed MetaImage volumes
   libtiff-dev                                                       # multi-page TIFF stacks, read page by page
   libjpeg-dev                                                       # JPEG slices, decoded strictly (libjpeg62-turbo)
+  libpng-dev                                                        # grey PNG slices and pictures, without OpenCV
   libgdcm-dev                                                       # DICOM series (GDCM)
   libcli11-dev                                                      # command-line parsing
   libmeshoptimizer-dev                                              # --decimate (meshopt_simplify)
