@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
-#include <filesystem>
 #include <string>
 #include <utility>
 
 #include "error.h"
 #include "read/dicom/dicom_input.h"
+#include "read/file_names.h"
 #include "read/image_stack/image_stack_input.h"
 #include "read/metaimage/metaimage_file.h"
 #include "read/nifti/nifti_file.h"
@@ -21,19 +21,21 @@ namespace mvox {
 InputRequest::InputRequest(std::vector<std::string> inputs, InputOptions options)
     : inputs_(std::move(inputs)), options_(std::move(options)) {}
 
-const std::vector<std::string>& InputRequest::files(InputKind kind) const {
+const std::vector<std::string>& InputRequest::files(InputKind kind, BadEntries bad_entries) const {
   std::optional<std::vector<std::string>>& listed =
-      kind == InputKind::image_stack ? image_stack_files_ : raw_files_;
-  if (!listed) listed = list_input_files(inputs_, kind);
+      listed_[(kind == InputKind::raw_files ? 2 : 0) + (bad_entries == BadEntries::skip ? 1 : 0)];
+  if (!listed) {
+    if (!scan_) scan_.emplace(inputs_);
+    listed = scan_->files(kind, bad_entries);
+  }
   return *listed;
 }
 
 const std::vector<const InputFormat*>& input_formats() {
   static const std::vector<const InputFormat*> formats = {
       &dicom_series_format(), &nrrd_volume_format(), &metaimage_volume_format(),
-      &nifti_volume_format(),
-      &tiff_stack_format(),   &raw_volume_format(),  &raw_slices_format(),
-      &image_stack_format()};
+      &nifti_volume_format(), &tiff_stack_format(),  &raw_volume_format(),
+      &raw_slices_format(),   &image_stack_format()};
   return formats;
 }
 
@@ -63,7 +65,7 @@ std::unique_ptr<SliceSource> open_slice_source(const std::vector<std::string>& i
 
 bool has_extension(const std::string& path, std::initializer_list<const char*> extensions) {
   // By the end of the name, so that double extensions (.nii.gz) work.
-  std::string name = std::filesystem::path(path).filename().string();
+  std::string name = file_name_of(path);
   for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return std::any_of(extensions.begin(), extensions.end(), [&](const char* wanted) {
     const std::size_t length = std::char_traits<char>::length(wanted);

@@ -30,14 +30,18 @@ class InputRequest {
 
   const std::vector<std::string>& inputs() const { return inputs_; }
   const InputOptions& options() const { return options_; }
-  // list_input_files(inputs(), kind), listed on first use. Throws as list_input_files does.
-  const std::vector<std::string>& files(InputKind kind) const;
+  // list_input_files(inputs(), kind, bad_entries), from one InputScan of the inputs made on
+  // first use. Throws as list_input_files does.
+  const std::vector<std::string>& files(InputKind kind,
+                                        BadEntries bad_entries = BadEntries::refuse) const;
 
  private:
   std::vector<std::string> inputs_;
   InputOptions options_;
-  mutable std::optional<std::vector<std::string>> image_stack_files_;
-  mutable std::optional<std::vector<std::string>> raw_files_;
+  mutable std::optional<InputScan> scan_;
+  // Listings by kind and rule: image_stack, raw_files, raw_files skipping bad entries (DICOM
+  // detection); image_stack skipping them is asked by no row.
+  mutable std::optional<std::vector<std::string>> listed_[4];
 };
 
 // An open input and every file it reads.

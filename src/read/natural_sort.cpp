@@ -25,8 +25,17 @@ int compare_digit_runs(const std::string& a, std::size_t ia, std::size_t a_end,
 
 // Natural comparison without the final tie-break: -1, 0 or 1.
 int natural_compare(const std::string& a, const std::string& b) {
-  std::size_t ia = 0;
-  std::size_t ib = 0;
+  // Names of one stack share a long prefix ("scans/head/slice_0"): skip it, back to the start of
+  // the digit run it ends in, since a run compares by its whole value.
+  std::size_t common =
+      std::mismatch(a.begin(),
+                    a.begin() + static_cast<std::ptrdiff_t>(std::min(a.size(), b.size())),
+                    b.begin())
+          .first -
+      a.begin();
+  while (common > 0 && is_digit(a[common - 1])) --common;
+  std::size_t ia = common;
+  std::size_t ib = common;
   while (ia < a.size() && ib < b.size()) {
     if (is_digit(a[ia]) && is_digit(b[ib])) {
       std::size_t a_end = ia;

@@ -1,5 +1,6 @@
 #include "write/output_targets.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <system_error>
 
@@ -85,11 +86,18 @@ std::string subject_of(const OutputTarget& output) {
 void check_output_targets(const std::vector<OutputTarget>& outputs,
                           const std::optional<FramesTarget>& frames,
                           const std::vector<std::string>& input_files) {
-  std::vector<Resolved> inputs;
-  inputs.reserve(input_files.size());
-  for (const std::string& input : input_files) inputs.push_back(resolve(input, 0));
   std::vector<Resolved> resolved;
   for (const OutputTarget& output : outputs) resolved.push_back(resolve(output.path, 1));
+  // Every input exists (it was listed or opened), and an output that does not exist can replace
+  // no existing file, so the inputs are looked at only when an output exists or names a
+  // descriptor: a stat each, for each of a stack's thousands of slices.
+  const bool some_output_exists = std::any_of(
+      resolved.begin(), resolved.end(), [](const Resolved& r) { return r.identity.has_value(); });
+  std::vector<Resolved> inputs;
+  if (some_output_exists) {
+    inputs.reserve(input_files.size());
+    for (const std::string& input : input_files) inputs.push_back(resolve(input, 0));
+  }
 
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     for (std::size_t k = 0; k < inputs.size(); ++k) {

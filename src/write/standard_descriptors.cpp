@@ -44,6 +44,13 @@ bool standard_descriptor_was_closed(int fd) { return fd >= 0 && fd <= 2 && g_clo
 
 std::optional<int> descriptor_named_by(const std::string& path) {
   if (path.empty() || path == "-") return std::nullopt;
+  // Only a last component that names a descriptor ("stdin", "3") can survive normalizing below
+  // as one ("x/.." and "x/." end in a directory). Most paths are slices of a stack, thousands of
+  // them, and are let go here, before the path is made absolute and split.
+  const std::string last = path.substr(path.rfind('/') + 1);
+  if (last != "stdin" && last != "stdout" && last != "stderr" && descriptor_number(last) < 0 &&
+      last != "." && last != ".." && !last.empty())
+    return std::nullopt;
   std::error_code error;
   std::filesystem::path absolute = std::filesystem::absolute(path, error);
   if (error) return std::nullopt;

@@ -12,6 +12,7 @@
 #include "command_runner.h"
 #include "error_capture.h"
 #include "file_io.h"
+#include "read/file_names.h"
 
 namespace fs = std::filesystem;
 
@@ -100,6 +101,54 @@ TEST(InputFiles, EntriesNamedLikeSlicesThatAreNoFilesAreRefusedNotSkipped) {
   fs::create_symlink(dir / "gone", dir / "raw/CThead.3");
   EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "raw"}, InputKind::raw_files); }),
                   dir / "raw/CThead.3: is a dangling symbolic link");
+}
+
+TEST(InputFiles, OneScanAnswersEveryListingWithoutLookingAgain) {
+  ScratchDirectory dir;
+  for (const char* name : {"s1.png", "s2.png", "s10.png", "notes.txt"})
+    touch(dir / (std::string("stack/") + name));
+  const InputScan scan({dir / "stack", dir / "stack/s*.png"});
+  // The files are gone, but the scan made before answers for them: the listings a run asks for
+  // (DICOM detection, the headered formats, the reader) cost the file system nothing more.
+  fs::remove_all(dir / "stack");
+  const std::vector<std::string> images = {dir / "stack/s1.png",  dir / "stack/s1.png",
+                                           dir / "stack/s2.png",  dir / "stack/s2.png",
+                                           dir / "stack/s10.png", dir / "stack/s10.png"};
+  EXPECT_EQ(scan.files(InputKind::image_stack, BadEntries::refuse), images);
+  std::vector<std::string> raw = images;
+  raw.insert(raw.begin(), dir / "stack/notes.txt");  // raw slices take every name of the folder
+  EXPECT_EQ(scan.files(InputKind::raw_files, BadEntries::skip), raw);
+}
+
+TEST(InputFiles, ReportsTheFirstProblemInTheOrderOfTheArguments) {
+  ScratchDirectory dir;
+  touch(dir / "a/s1.png");
+  fs::create_symlink(dir / "gone.png", dir / "a/s2.png");
+  touch(dir / "b/s1.png");
+  const InputScan scan({dir / "b/s*.png", dir / "missing", dir / "a"});
+  EXPECT_CONTAINS(error_of([&] { scan.files(InputKind::image_stack, BadEntries::refuse); }),
+                  dir / "missing: no such file or directory");
+  const InputScan later({dir / "b", dir / "a", dir / "missing"});
+  EXPECT_CONTAINS(error_of([&] { later.files(InputKind::image_stack, BadEntries::refuse); }),
+                  dir / "a/s2.png: is a dangling symbolic link");
+  // Skipping the bad entry leaves the missing input to be reported.
+  EXPECT_CONTAINS(error_of([&] { later.files(InputKind::image_stack, BadEntries::skip); }),
+                  dir / "missing: no such file or directory");
+}
+
+TEST(FileNames, AgreeWithStdFilesystem) {
+  // The listing cuts names from strings instead of building path objects; it must cut them
+  // where std::filesystem does.
+  for (const std::string path :
+       {"a.png", "dir/slice.PNG", "/abs/dir/s.TiFf", "noext", "dir/", "dir.d/noext", ".hidden",
+        "dir/.hidden.png", "..", ".", "dir/..", "a.", "a..png", "..png", "x.nii.gz", "", "/",
+        "a/b/c.jpeg", "dir.png/"}) {
+    SCOPED_TRACE(path);
+    EXPECT_EQ(file_name_of(path), fs::path(path).filename().string());
+    std::string expected = fs::path(path).extension().string();
+    for (char& c : expected) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    EXPECT_EQ(lowercase_extension(path), expected);
+  }
 }
 
 }  // namespace

@@ -18,6 +18,14 @@ TEST(NaturalSort, DigitRunsCompareByValue) {
   EXPECT_TRUE(natural_less("a9b", "a10a"));  // the number decides before the text after it
   EXPECT_TRUE(natural_less("img", "img1"));  // a prefix comes first
   EXPECT_TRUE(natural_less("s1_2", "s1_10"));
+  // Names sharing the first digits of a run: the run still compares whole (the comparison skips
+  // the common prefix only back to where its run starts).
+  EXPECT_TRUE(natural_less("s2", "s19"));
+  EXPECT_FALSE(natural_less("s19", "s2"));
+  EXPECT_TRUE(natural_less("a100b", "a1000"));
+  EXPECT_TRUE(natural_less("slice_002", "slice_0019"));
+  EXPECT_TRUE(natural_less("v12_9", "v12_10"));
+  EXPECT_TRUE(natural_less("12", "123"));
 
   std::vector<std::string> names = {"slice10", "slice1",  "slice12", "slice3",
                                     "slice2",  "slice11", "slice9",  "slice4"};

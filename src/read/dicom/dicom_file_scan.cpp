@@ -1,7 +1,6 @@
 #include "read/dicom/dicom_file_scan.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "error.h"
+#include "read/file_names.h"
 
 namespace mvox {
 namespace {
@@ -472,13 +472,6 @@ bool is_uid(const std::string& text) {
          });
 }
 
-std::string lower_extension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
 }  // namespace
 
 std::string dicom_tag_text(std::uint32_t tag) {
@@ -499,7 +492,7 @@ bool has_dicom_preamble(const std::string& path) {
 }
 
 bool has_dicom_extension(const std::string& path) {
-  const std::string extension = lower_extension(path);
+  const std::string extension = lowercase_extension(path);
   return extension == ".dcm" || extension == ".dicom";
 }
 

@@ -8,28 +8,32 @@
 
 namespace mvox {
 
-bool is_dicom_input(const std::vector<std::string>& inputs) {
-  std::vector<std::string> files;
+bool is_dicom_input(const InputRequest& request) {
+  const std::vector<std::string>* files = nullptr;
   try {
     // A FIFO or a dangling link among the files must not hide the series: with it refused here,
     // the folder would be read as images and called empty of slices. the DICOM row's own
     // listing refuses it, naming it.
-    files = list_input_files(inputs, InputKind::raw_files, BadEntries::skip);
+    files = &request.files(InputKind::raw_files, BadEntries::skip);
   } catch (const Error&) {
     return false;
   }
-  for (const std::string& file : files) {
+  for (const std::string& file : *files) {
     if (has_slice_image_extension(file)) continue;
     if (has_dicom_extension(file) || has_dicom_preamble(file)) return true;
   }
   return false;
 }
 
+bool is_dicom_input(const std::vector<std::string>& inputs) {
+  return is_dicom_input(InputRequest(inputs, InputOptions{}));
+}
+
 namespace {
 
 bool claims(const InputRequest& request) {
   if (request.options().dicom.force) return true;
-  return !request.options().raw && is_dicom_input(request.inputs());
+  return !request.options().raw && is_dicom_input(request);
 }
 
 OpenedInput open(const InputRequest& request) {

@@ -21,6 +21,9 @@ struct DicomChoice {
 // .dcm/.dicom name. Images (PNG previews beside the series) are never opened for this. Entries
 // that cannot be read (a FIFO, a dangling link) are passed over here; the DICOM row refuses
 // them. False, without an error, when the inputs cannot be listed: the image reader reports that.
+// The request's form looks at its listing, shared with the other rows (input_format.h).
+class InputRequest;
+bool is_dicom_input(const InputRequest& request);
 bool is_dicom_input(const std::vector<std::string>& inputs);
 
 struct InputFormat;

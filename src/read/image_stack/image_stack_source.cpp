@@ -1,7 +1,6 @@
 #include "read/image_stack/image_stack_source.h"
 
 #include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <limits>
 #include <new>
@@ -11,6 +10,7 @@
 #include "modules/image_codecs.h"
 #include "read/buffer_allocation.h"
 #include "read/file_bytes.h"
+#include "read/file_names.h"
 #include "read/image_stack/image_file_check.h"
 #include "read/image_stack/image_header.h"
 #include "read/image_stack/jpeg_slice_decoder.h"
@@ -37,8 +37,7 @@ std::string size_text(std::uint32_t width, std::uint32_t height) {
 // True for files mvox decodes itself (PNG with libpng, JPEG with libjpeg), by their names: the
 // others need OpenCV's module.
 bool decoded_without_opencv(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string extension = lowercase_extension(path);
   return extension == ".png" || extension == ".jpg" || extension == ".jpeg";
 }
 

@@ -6,13 +6,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <limits>
 #include <new>
 #include <utility>
 
 #include "error.h"
 #include "read/compression_bounds.h"
+#include "read/file_names.h"
 #include "read/header_text.h"
 #include "read/tiff/tiff_directory.h"
 #include "read/tiff/tiff_file.h"
@@ -635,7 +635,7 @@ bool TiffStackSource::next_slice(SliceView* slice) {
 }
 
 bool has_tiff_extension(const std::string& path) {
-  const std::string extension = lowercase(std::filesystem::path(path).extension().string());
+  const std::string extension = lowercase_extension(path);
   return extension == ".tif" || extension == ".tiff";
 }
 
