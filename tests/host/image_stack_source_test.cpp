@@ -132,6 +132,17 @@ TEST(ImageStack, RefusesSliceOfAnotherSize) {
   EXPECT_CONTAINS(message, dir / "slice10.png: image is 5x7, expected 7x5");
 }
 
+TEST(ImageStack, ASliceRemovedAfterListingIsNamedAsMissing) {
+  ScratchDirectory dir;
+  for (int i = 1; i <= 3; ++i)
+    ASSERT_TRUE(cv::imwrite(dir / ("s" + std::to_string(i) + ".png"),
+                            cv::Mat(5, 7, CV_8U, cv::Scalar(i))));
+  std::unique_ptr<SliceSource> source = open_slice_source({dir.str()}, std::nullopt);
+  fs::remove(dir / "s2.png");
+  const std::string message = error_of([&] { read_all<std::uint8_t>(*source); });
+  EXPECT_CONTAINS(message, dir / "s2.png: no such file");
+}
+
 TEST(ImageStack, RefusesSliceOfAnotherBitDepth) {
   ScratchDirectory dir;
   ASSERT_TRUE(cv::imwrite(dir / "slice1.png", cv::Mat(5, 7, CV_16U, cv::Scalar(1000))));

@@ -67,9 +67,14 @@ void check_header(const std::string& path, const ImageHeader& header, const Volu
 // Reads `path` into `bytes` and checks what its header says, before any decoder sees it.
 void read_checked_file(const std::string& path, ReadBuffer& bytes, const VolumeInfo& info,
                        const std::string& first) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error)) throw Error(path, "no such file");
-  read_file_bytes(path, bytes);  // reused from slice to slice, so it stops growing
+  try {
+    read_file_bytes(path, bytes);  // reused from slice to slice, so it stops growing
+  } catch (const Error&) {
+    // Asked only on failure: a stat before every slice cost one more system call a slice.
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) throw Error(path, "no such file");
+    throw;
+  }
   // A truncated PNG or JPEG would make libpng or libjpeg print on standard error, or decode
   // into a wrong slice (image_file_check.h).
   const std::string problem = image_file_problem(bytes.data(), bytes.size());
