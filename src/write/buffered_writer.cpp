@@ -1,6 +1,7 @@
 #include "write/buffered_writer.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -185,11 +186,61 @@ int BufferedWriter::write_slow(const void* data, std::size_t size) {
   return 0;
 }
 
+int BufferedWriter::append_by_splice(int from_fd, std::uint64_t* from, std::uint64_t* size,
+                                     bool* short_source) {
+  struct stat target {};
+  if (::fstat(fd_, &target) != 0 || !S_ISREG(target.st_mode)) return -1;
+  int ends[2];
+  if (::pipe2(ends, O_CLOEXEC) != 0) return -1;
+  struct Pipe {
+    int* ends;
+    ~Pipe() {
+      ::close(ends[0]);
+      ::close(ends[1]);
+    }
+  } pipe{ends};
+  // A pipe of one buffer's size; a user's limit may refuse it, and the default 64 KiB pipe then
+  // carries smaller chunks.
+  const int pipe_bytes = ::fcntl(ends[1], F_SETPIPE_SZ, static_cast<int>(kBufferBytes));
+  const std::size_t chunk = pipe_bytes > 0 ? static_cast<std::size_t>(pipe_bytes) : 65536;
+  // The source is read at explicit offsets, so bytes in the pipe that the target refuses can be
+  // read again another way: *from counts only bytes the target took.
+  bool moved = false;
+  while (*size > 0) {
+    loff_t offset = static_cast<loff_t>(*from);
+    const ssize_t got =
+        ::splice(from_fd, &offset, ends[1], nullptr,
+                 static_cast<std::size_t>(std::min<std::uint64_t>(*size, chunk)), SPLICE_F_MOVE);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) return !moved && (errno == EINVAL || errno == ENOSYS) ? -1 : errno;
+    if (got == 0) {
+      *short_source = true;
+      return 0;
+    }
+    std::size_t in_pipe = static_cast<std::size_t>(got);
+    while (in_pipe > 0) {
+      const ssize_t put = ::splice(ends[0], nullptr, fd_, nullptr, in_pipe, SPLICE_F_MOVE);
+      if (put < 0 && errno == EINTR) continue;
+      if (put < 0) return !moved && errno == EINVAL ? -1 : errno;  // EINVAL: takes no splice
+      if (put == 0) return ENOSPC;                                 // as write(2) returning 0
+      in_pipe -= static_cast<std::size_t>(put);
+      *from += static_cast<std::uint64_t>(put);
+      *size -= static_cast<std::uint64_t>(put);
+      total_ += static_cast<std::uint64_t>(put);
+      moved = true;
+    }
+  }
+  return 0;
+}
+
 int BufferedWriter::append_file(int from_fd, std::uint64_t size, bool* short_source) {
   *short_source = false;
   if (const int error = flush()) return error;
   allocate_to(total_ + size);  // for the whole copy at once
-  loff_t from = 0;
+  std::uint64_t spliced_to = 0;
+  if (const int result = append_by_splice(from_fd, &spliced_to, &size, short_source); result >= 0)
+    return result;
+  auto from = static_cast<loff_t>(spliced_to);
   bool kernel_copies = true;
   while (size > 0) {
     const std::size_t want =

@@ -78,10 +78,13 @@ class BufferedWriter {
   // appended is in the descriptor when it returns 0. Returns 0 or an errno value.
   int flush();
 
-  // Appends `size` bytes of the file `from_fd` from offset 0, copied by the kernel
-  // (copy_file_range: no copy through this process, and none at all on file systems that share
-  // blocks), or through the buffer where the kernel cannot. Flushes first. Returns 0 or an errno
-  // value; *short_source is set when `from_fd` holds fewer bytes.
+  // Appends `size` bytes of the file `from_fd` from offset 0, copied by the kernel: through a
+  // pipe with splice(2) into a regular file (the source's pages go into the pipe by reference,
+  // so the bytes are copied once; copy_file_range, the next choice, copies them twice on ext4,
+  // into pipe pages of its own and then into the target's: 20 against 15 ms for the 30 MB of a
+  // PLY's faces here), else copy_file_range, else through the buffer where the kernel cannot.
+  // Flushes first. Returns 0 or an errno value; *short_source is set when `from_fd` holds fewer
+  // bytes.
   int append_file(int from_fd, std::uint64_t size, bool* short_source);
 
   // Bytes appended so far, buffered or not.
@@ -94,6 +97,12 @@ class BufferedWriter {
 
  private:
   struct Background;
+
+  // append_file's first way: moves bytes of `from_fd` from offset *from into the file until
+  // *size is 0 or the source ends (*short_source), advancing both by what the file took.
+  // Returns 0, an errno value, or -1 when splice cannot be used here before any byte moved (the
+  // caller goes on another way from *from).
+  int append_by_splice(int from_fd, std::uint64_t* from, std::uint64_t* size, bool* short_source);
 
   int write_slow(const void* data, std::size_t size);
   // Gives the full buffer to the writing thread (started at the first call) and takes the

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "command_runner.h"
@@ -91,6 +92,58 @@ TEST(BufferedWriter, EveryWayOfAppendingKeepsTheOrderAcrossBackgroundWrites) {
   EXPECT_TRUE(std::equal(expected.begin(), expected.end(),
                          reinterpret_cast<const unsigned char*>(written.data())))
       << "the bytes arrived out of order";
+}
+
+TEST(BufferedWriter, AnAppendedFileReachesFilesAndPipesAndAShortOneIsNoted) {
+  test::ScratchDirectory dir;
+  const std::vector<unsigned char> spooled = pattern(2 * kBuffer + 12345, 4);
+  test::write_bytes(dir / "spool.bin", spooled);
+  const int spool = ::open((dir / "spool.bin").c_str(), O_RDONLY);
+  ASSERT_GE(spool, 0);
+  const std::string head = "head";
+  const std::string expected =
+      head + std::string(reinterpret_cast<const char*>(spooled.data()), spooled.size());
+
+  // A regular file (spliced through a pipe), asked for more than the source holds.
+  const int fd = ::open((dir / "out.bin").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ASSERT_GE(fd, 0);
+  {
+    BufferedWriter writer;
+    writer.set_fd(fd);
+    ASSERT_EQ(writer.write(head.data(), head.size()), 0);  // in the buffer: flushed first
+    bool short_source = false;
+    ASSERT_EQ(writer.append_file(spool, spooled.size() + 100, &short_source), 0);
+    EXPECT_TRUE(short_source);
+    EXPECT_EQ(writer.bytes_written(), expected.size());
+    ASSERT_EQ(writer.flush(), 0);
+    writer.set_fd(-1);
+  }
+  ::close(fd);
+  EXPECT_TRUE(test::read_bytes(dir / "out.bin") == expected) << "spliced bytes differ";
+
+  // A pipe, which is no regular file: copied another way, in order.
+  int ends[2];
+  ASSERT_EQ(::pipe(ends), 0);
+  std::string piped;
+  std::thread reader([&] {
+    char block[65536];
+    for (ssize_t n; (n = ::read(ends[0], block, sizeof block)) > 0;) piped.append(block, n);
+  });
+  {
+    BufferedWriter writer;
+    writer.set_fd(ends[1]);
+    ASSERT_EQ(writer.write(head.data(), head.size()), 0);
+    bool short_source = true;
+    ASSERT_EQ(writer.append_file(spool, spooled.size(), &short_source), 0);
+    EXPECT_FALSE(short_source);
+    ASSERT_EQ(writer.flush(), 0);
+    writer.set_fd(-1);
+  }
+  ::close(ends[1]);
+  reader.join();
+  ::close(ends[0]);
+  ::close(spool);
+  EXPECT_TRUE(piped == expected) << "piped bytes differ";
 }
 
 TEST(BufferedWriter, ABackgroundWriteErrorIsReturnedByALaterCall) {
