@@ -2,7 +2,8 @@
 # Slab-parallel scaling on this machine (docs/scaling.md): the paper's engine resampled to
 # 256x256xDEPTH (default 1024), extracted
 #   - in memory, by one engine and by 1..MAX_THREADS slab workers (mvox_bench_threads), and
-#   - end to end, raw file to binary PLY, by `mvox extract --threads N` (hyperfine, medians);
+#   - end to end, raw file to binary PLY, by `mvox extract --threads N` (hyperfine, one run of
+#     each command a round, medians of the rounds and of their ratios);
 # a PNG stack of the same size (mvox phantom blobs), where each worker decodes its own slabs;
 # the picture (--image) drawn by 1..MAX_THREADS; mvox-mpi on 1..MAX_RANKS (default 4) ranks,
 # oversubscribed, when it is built; and the peak memory of each end-to-end run on the volume and on one 4x as deep, to show it
@@ -29,17 +30,21 @@ deep=$((4 * depth))
 "$build/bench/mvox_bench_resample" "$engine" 256x256x128 "$scratch/volume.raw" "256x256x$depth"
 "$build/bench/mvox_bench_resample" "$engine" 256x256x128 "$scratch/deep.raw" "256x256x$deep"
 
-# A Markdown table of hyperfine's JSON: NAMES in order, medians, ratios to the first.
+# A Markdown table of interleaved rounds (hyperfine JSON files, one a round, each with one run
+# of every command): NAMES in order, medians, and the median of the per-round ratios to the
+# first, so that a slow moment of this shared machine slows every command of its round alike.
 table() {
   python3 - "$@" <<'EOF'
-import json, statistics, sys
-results = json.load(open(sys.argv[1]))["results"]
+import glob, json, statistics, sys
+rounds = [json.load(open(f))["results"] for f in sorted(glob.glob(sys.argv[1] + ".round*.json"))]
 names = sys.argv[2:]
-base = statistics.median(results[0]["times"])
-print("| run | wall (median) | vs --threads 1 |\n|---|---|---|")
-for name, result in zip(names, results):
-    t = statistics.median(result["times"])
-    print(f"| {name} | {t * 1e3:.0f} ms | {base / t:.2f}x |")
+print(f"| run | wall (median of {len(rounds)}) | vs --threads 1 (median of the rounds' ratios; range) |")
+print("|---|---|---|")
+for k, name in enumerate(names):
+    times = [r[k]["times"][0] for r in rounds]
+    ratios = [r[0]["times"][0] / r[k]["times"][0] for r in rounds]
+    print(f"| {name} | {statistics.median(times) * 1e3:.0f} ms | "
+          f"{statistics.median(ratios):.2f}x ({min(ratios):.2f}-{max(ratios):.2f}) |")
 EOF
 }
 
@@ -51,14 +56,18 @@ echo
 "$build/bench/mvox_bench_threads" "$scratch/volume.raw" "256x256x$depth:u8" 100 "$max_threads" "$runs"
 echo
 
-# compare_runs NAME: hyperfine over the arrays `commands` and `names` (a Markdown table of
-# medians, ratios to the first), then checks that the files of the array `outputs` are all the
-# first one, byte for byte.
+# compare_runs NAME: RUNS interleaved rounds of the array `commands`, each round one hyperfine
+# run of every command in order, after one warm-up round (a Markdown table of medians and
+# ratios to the first), then checks that the files of the array `outputs` are all the first
+# one, byte for byte.
 compare_runs() {
-  local name=$1 output
-  hyperfine --style none --warmup 1 --runs "$runs" --export-json "$scratch/$name.json" \
-    "${commands[@]}" > /dev/null
-  table "$scratch/$name.json" "${names[@]}"
+  local name=$1 output round
+  hyperfine --style none --runs 1 "${commands[@]}" > /dev/null  # warm-up
+  for round in $(seq -w "$runs"); do
+    hyperfine --style none --runs 1 --export-json "$scratch/$name.round$round.json" \
+      "${commands[@]}" > /dev/null
+  done
+  table "$scratch/$name" "${names[@]}"
   for output in "${outputs[@]:1}"; do
     cmp -s "${outputs[0]}" "$output" ||
       { echo "$0: $name: $output is not ${outputs[0]}" >&2; exit 1; }
