@@ -36,7 +36,7 @@ void run_render(const RenderArguments& args) {
   check_image_extension(options.image_path);
   check_output_targets(
       {{options.image_path, args.output.empty() ? "--image" : "-o", "the picture"}}, std::nullopt,
-      {args.mesh});
+      {args.mesh}, InputFiles::not_yet_opened);
   OutputFile file(options.image_path);  // fails now, not after reading a large mesh
 
   PlyMesh mesh = read_ply(args.mesh);

@@ -170,7 +170,7 @@ LabelReport run_label_job(SliceSource& source, const LabelJob& job) {
     targets.push_back({label_file_name(job.output_pattern, label), "-o",
                        "the mesh of label " + std::to_string(label)});
   if (!job.stats_path.empty()) targets.push_back({job.stats_path, "--stats", "the report"});
-  check_output_targets(targets, std::nullopt, job.input_files);
+  check_output_targets(targets, std::nullopt, job.input_files, InputFiles::found);
   std::vector<std::unique_ptr<MeshWriter>> writers;
   for (const auto& [label, counts] : spool.labels()) {
     MeshWriterOptions options = job.mesh;

@@ -241,7 +241,7 @@ void check_job_outputs(const MeshJob& job, std::uint32_t depth) {
   std::optional<FramesTarget> frames;
   if (!job.picture.frames_dir.empty())
     frames = FramesTarget{job.picture.frames_dir, job.picture.every, depth};
-  check_output_targets(targets, frames, job.input_files);
+  check_output_targets(targets, frames, job.input_files, InputFiles::found);
 }
 
 RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {

@@ -85,16 +85,15 @@ std::string subject_of(const OutputTarget& output) {
 
 void check_output_targets(const std::vector<OutputTarget>& outputs,
                           const std::optional<FramesTarget>& frames,
-                          const std::vector<std::string>& input_files) {
+                          const std::vector<std::string>& input_files, InputFiles inputs_known) {
   std::vector<Resolved> resolved;
   for (const OutputTarget& output : outputs) resolved.push_back(resolve(output.path, 1));
-  // Every input exists (it was listed or opened), and an output that does not exist can replace
-  // no existing file, so the inputs are looked at only when an output exists or names a
-  // descriptor: a stat each, for each of a stack's thousands of slices.
+  // An output that does not exist (an open descriptor has an identity too) can replace no
+  // existing file, so inputs found on disk need looking at only when some output exists.
   const bool some_output_exists = std::any_of(
       resolved.begin(), resolved.end(), [](const Resolved& r) { return r.identity.has_value(); });
   std::vector<Resolved> inputs;
-  if (some_output_exists) {
+  if (some_output_exists || inputs_known == InputFiles::not_yet_opened) {
     inputs.reserve(input_files.size());
     for (const std::string& input : input_files) inputs.push_back(resolve(input, 0));
   }

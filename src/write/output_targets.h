@@ -35,8 +35,13 @@ struct FramesTarget {
 // - two outputs are one file or one path, standard output included ("-o - --stats -");
 // - a frame would replace an input file or another output.
 // Character devices (/dev/null, a terminal) replace nothing and may be named several times.
+// `inputs` says whether every input file was found on disk (listed, or opened by its reader):
+// then, when no output exists yet, none can be an input, and the inputs are not looked at (a
+// stat each, for each of a stack's thousands of slices). An input not yet opened (the mesh of
+// `mvox render`) may be missing, and a missing input and a new output may still be one path.
+enum class InputFiles { found, not_yet_opened };
 void check_output_targets(const std::vector<OutputTarget>& outputs,
                           const std::optional<FramesTarget>& frames,
-                          const std::vector<std::string>& input_files);
+                          const std::vector<std::string>& input_files, InputFiles inputs);
 
 }  // namespace mvox

@@ -69,6 +69,15 @@ TEST_F(OutputTargets, AnInputIsNeverReplacedByTheMeshPictureOrReport) {
                  "stack/sphere_0007.png", "is an input file");
 }
 
+TEST_F(OutputTargets, RenderComparesItsMeshByPathBeforeOpeningIt) {
+  // The mesh is checked before it is read, so it may not exist: a new output and a missing mesh
+  // are still one path when named alike (the run would otherwise fail on the mesh).
+  fs::create_directory(dir_.path() / "sub");
+  expect_refused("render missing.png -o missing.png", "missing.png", "is an input file");
+  expect_refused("render missing.png -o sub/../missing.png", "sub/../missing.png",
+                 "is the input missing.png by another name");
+}
+
 TEST_F(OutputTargets, OtherSpellingsAndLinksOfAnInputAreTheSameFile) {
   fs::create_symlink("volume.raw", dir_.path() / "soft.ply");
   fs::create_hard_link(dir_.path() / "volume.raw", dir_.path() / "hard.ply");

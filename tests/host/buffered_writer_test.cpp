@@ -121,6 +121,41 @@ TEST(BufferedWriter, AnAppendedFileReachesFilesAndPipesAndAShortOneIsNoted) {
   ::close(fd);
   EXPECT_TRUE(test::read_bytes(dir / "out.bin") == expected) << "spliced bytes differ";
 
+  // Blocks allocated ahead of the writes, then released: the file ends at its last byte.
+  const int allocated = ::open((dir / "ahead.bin").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ASSERT_GE(allocated, 0);
+  {
+    BufferedWriter writer;
+    writer.set_fd(allocated, true);
+    ASSERT_EQ(writer.write(head.data(), head.size()), 0);
+    bool short_source = true;
+    ASSERT_EQ(writer.append_file(spool, spooled.size(), &short_source), 0);
+    EXPECT_FALSE(short_source);
+    ASSERT_EQ(writer.flush(), 0);
+    ASSERT_EQ(writer.release_allocation(), 0);
+    writer.set_fd(-1);
+  }
+  ::close(allocated);
+  EXPECT_TRUE(test::read_bytes(dir / "ahead.bin") == expected) << "allocated-ahead bytes differ";
+
+  // A file opened to append (`mvox ... -o - >> mesh.ply`) takes no splice, found when the pipe
+  // already holds a chunk: that chunk is read from the source again, another way.
+  test::write_bytes(dir / "appended.bin", std::string("x"));
+  const int appended = ::open((dir / "appended.bin").c_str(), O_WRONLY | O_APPEND);
+  ASSERT_GE(appended, 0);
+  {
+    BufferedWriter writer;
+    writer.set_fd(appended);
+    ASSERT_EQ(writer.write(head.data(), head.size()), 0);
+    bool short_source = true;
+    ASSERT_EQ(writer.append_file(spool, spooled.size(), &short_source), 0);
+    EXPECT_FALSE(short_source);
+    ASSERT_EQ(writer.flush(), 0);
+    writer.set_fd(-1);
+  }
+  ::close(appended);
+  EXPECT_TRUE(test::read_bytes(dir / "appended.bin") == "x" + expected) << "appended bytes differ";
+
   // A pipe, which is no regular file: copied another way, in order.
   int ends[2];
   ASSERT_EQ(::pipe(ends), 0);

@@ -4,6 +4,7 @@
 #include "read/input_files.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <string>
@@ -101,6 +102,35 @@ TEST(InputFiles, EntriesNamedLikeSlicesThatAreNoFilesAreRefusedNotSkipped) {
   fs::create_symlink(dir / "gone", dir / "raw/CThead.3");
   EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "raw"}, InputKind::raw_files); }),
                   dir / "raw/CThead.3: is a dangling symbolic link");
+}
+
+TEST(InputFiles, FifosAndDirectoriesAreNamedWhereverTheyAreFound) {
+  ScratchDirectory dir;
+  touch(dir / "stack/s1.png");
+  ASSERT_EQ(::mkfifo((dir / "stack/s2.png").c_str(), 0600), 0);
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "stack"}, InputKind::image_stack); }),
+                  dir / "stack/s2.png: is not a regular file (a FIFO");
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "stack/s*.png"}, InputKind::raw_files); }),
+                  dir / "stack/s2.png: is not a regular file (a FIFO");
+  // Named by the user, a FIFO is taken as given (a stream of raw slices, say).
+  EXPECT_EQ(list_input_files({dir / "stack/s2.png"}, InputKind::raw_files),
+            (std::vector<std::string>{dir / "stack/s2.png"}));
+  // A pattern matching only a directory named like a slice: refused for images, and for raw
+  // slices (where a directory is skipped) a pattern without a match.
+  fs::create_directories(dir / "dirs/d1.png");
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "dirs/d*"}, InputKind::image_stack); }),
+                  dir / "dirs/d1.png: is a directory, not a slice image");
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "dirs/d*"}, InputKind::raw_files); }),
+                  dir / "dirs/d*: no file matches this pattern");
+  // Within one directory, an entry's problem comes before the directory's.
+  fs::create_directories(dir / "lost");
+  touch(dir / "lost/notes.txt");
+  fs::create_symlink(dir / "gone.png", dir / "lost/s1.png");
+  EXPECT_CONTAINS(error_of([&] { list_input_files({dir / "lost"}, InputKind::image_stack); }),
+                  dir / "lost/s1.png: is a dangling symbolic link");
+  EXPECT_CONTAINS(
+      error_of([&] { list_input_files({dir / "lost"}, InputKind::image_stack, BadEntries::skip); }),
+      dir / "lost: directory has no slice images");
 }
 
 TEST(InputFiles, OneScanAnswersEveryListingWithoutLookingAgain) {
