@@ -101,6 +101,10 @@ void InputScan::scan_directory(Argument& argument) {
       entries_.push_back({std::move(path), Nature::regular, ""});
       continue;
     }
+    if (!entry->is_symlink(type_error) && entry->is_directory(type_error)) {  // from the listing
+      entries_.push_back({std::move(path), Nature::directory, ""});
+      continue;
+    }
     bool is_directory = false;
     std::string problem = unusable_problem(path, is_directory);
     entries_.push_back(

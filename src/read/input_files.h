@@ -30,9 +30,9 @@ enum class BadEntries { refuse, skip };
 // expanded, and what each entry is, once. Several readers ask which files the input holds (DICOM
 // detection, the headered formats, the reader that opens it), each with its own rule; before,
 // each asked the file system again, and a stack of 1,024 slices given as a pattern cost 5,000
-// stat calls (25 ms, more than the rest of a --dry-run) before its first slice was read. Now each
-// pattern match costs one stat and each directory entry none (its type comes with the listing),
-// and the names are sorted once.
+// stat calls (25 ms, more than the rest of a --dry-run) before its first slice was read. Now a
+// pattern's file costs one stat and a directory's file or subdirectory none (its type comes with
+// the listing; links and stranger entries cost more), and the names are sorted once.
 class InputScan {
  public:
   // Looks at `inputs`. Never throws for what it finds: a missing input or a directory that

@@ -188,6 +188,7 @@ int BufferedWriter::write_slow(const void* data, std::size_t size) {
 
 int BufferedWriter::append_by_splice(int from_fd, std::uint64_t* from, std::uint64_t* size,
                                      bool* short_source) {
+  if (*size == 0) return 0;
   struct stat target {};
   if (::fstat(fd_, &target) != 0 || !S_ISREG(target.st_mode)) return -1;
   int ends[2];

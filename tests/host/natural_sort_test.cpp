@@ -22,6 +22,9 @@ TEST(NaturalSort, DigitRunsCompareByValue) {
   // the common prefix only back to where its run starts).
   EXPECT_TRUE(natural_less("s2", "s19"));
   EXPECT_FALSE(natural_less("s19", "s2"));
+  EXPECT_TRUE(natural_less("s12", "s123"));
+  EXPECT_TRUE(natural_less("x19", "x1000"));
+  EXPECT_FALSE(natural_less("x1000", "x19"));
   EXPECT_TRUE(natural_less("a100b", "a1000"));
   EXPECT_TRUE(natural_less("slice_002", "slice_0019"));
   EXPECT_TRUE(natural_less("v12_9", "v12_10"));
