@@ -94,6 +94,25 @@ TEST(BufferedWriter, EveryWayOfAppendingKeepsTheOrderAcrossBackgroundWrites) {
       << "the bytes arrived out of order";
 }
 
+enum class Ahead { no, yes };               // blocks allocated ahead, released at the end
+enum class Source { whole, short_by_100 };  // what append_file finds in the source
+
+// Through one writer into `fd`: `head`, then `size` bytes of the file `spool` appended.
+void append_after(const std::string& head, int fd, int spool, std::uint64_t size, Ahead ahead,
+                  Source source) {
+  BufferedWriter writer;
+  writer.set_fd(fd, ahead == Ahead::yes);
+  ASSERT_EQ(writer.write(head.data(), head.size()), 0);  // in the buffer: flushed first
+  bool short_source = source == Source::whole;
+  ASSERT_EQ(writer.append_file(spool, size, &short_source), 0);
+  EXPECT_EQ(short_source, source == Source::short_by_100);
+  const std::uint64_t appended = source == Source::whole ? size : size - 100;
+  EXPECT_EQ(writer.bytes_written(), head.size() + appended);
+  ASSERT_EQ(writer.flush(), 0);
+  if (ahead == Ahead::yes) ASSERT_EQ(writer.release_allocation(), 0);
+  writer.set_fd(-1);
+}
+
 TEST(BufferedWriter, AnAppendedFileReachesFilesAndPipesAndAShortOneIsNoted) {
   test::ScratchDirectory dir;
   const std::vector<unsigned char> spooled = pattern(2 * kBuffer + 12345, 4);
@@ -107,34 +126,14 @@ TEST(BufferedWriter, AnAppendedFileReachesFilesAndPipesAndAShortOneIsNoted) {
   // A regular file (spliced through a pipe), asked for more than the source holds.
   const int fd = ::open((dir / "out.bin").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   ASSERT_GE(fd, 0);
-  {
-    BufferedWriter writer;
-    writer.set_fd(fd);
-    ASSERT_EQ(writer.write(head.data(), head.size()), 0);  // in the buffer: flushed first
-    bool short_source = false;
-    ASSERT_EQ(writer.append_file(spool, spooled.size() + 100, &short_source), 0);
-    EXPECT_TRUE(short_source);
-    EXPECT_EQ(writer.bytes_written(), expected.size());
-    ASSERT_EQ(writer.flush(), 0);
-    writer.set_fd(-1);
-  }
+  append_after(head, fd, spool, spooled.size() + 100, Ahead::no, Source::short_by_100);
   ::close(fd);
   EXPECT_TRUE(test::read_bytes(dir / "out.bin") == expected) << "spliced bytes differ";
 
   // Blocks allocated ahead of the writes, then released: the file ends at its last byte.
   const int allocated = ::open((dir / "ahead.bin").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   ASSERT_GE(allocated, 0);
-  {
-    BufferedWriter writer;
-    writer.set_fd(allocated, true);
-    ASSERT_EQ(writer.write(head.data(), head.size()), 0);
-    bool short_source = true;
-    ASSERT_EQ(writer.append_file(spool, spooled.size(), &short_source), 0);
-    EXPECT_FALSE(short_source);
-    ASSERT_EQ(writer.flush(), 0);
-    ASSERT_EQ(writer.release_allocation(), 0);
-    writer.set_fd(-1);
-  }
+  append_after(head, allocated, spool, spooled.size(), Ahead::yes, Source::whole);
   ::close(allocated);
   EXPECT_TRUE(test::read_bytes(dir / "ahead.bin") == expected) << "allocated-ahead bytes differ";
 
@@ -143,16 +142,7 @@ TEST(BufferedWriter, AnAppendedFileReachesFilesAndPipesAndAShortOneIsNoted) {
   test::write_bytes(dir / "appended.bin", std::string("x"));
   const int appended = ::open((dir / "appended.bin").c_str(), O_WRONLY | O_APPEND);
   ASSERT_GE(appended, 0);
-  {
-    BufferedWriter writer;
-    writer.set_fd(appended);
-    ASSERT_EQ(writer.write(head.data(), head.size()), 0);
-    bool short_source = true;
-    ASSERT_EQ(writer.append_file(spool, spooled.size(), &short_source), 0);
-    EXPECT_FALSE(short_source);
-    ASSERT_EQ(writer.flush(), 0);
-    writer.set_fd(-1);
-  }
+  append_after(head, appended, spool, spooled.size(), Ahead::no, Source::whole);
   ::close(appended);
   EXPECT_TRUE(test::read_bytes(dir / "appended.bin") == "x" + expected) << "appended bytes differ";
 
@@ -164,16 +154,7 @@ TEST(BufferedWriter, AnAppendedFileReachesFilesAndPipesAndAShortOneIsNoted) {
     char block[65536];
     for (ssize_t n; (n = ::read(ends[0], block, sizeof block)) > 0;) piped.append(block, n);
   });
-  {
-    BufferedWriter writer;
-    writer.set_fd(ends[1]);
-    ASSERT_EQ(writer.write(head.data(), head.size()), 0);
-    bool short_source = true;
-    ASSERT_EQ(writer.append_file(spool, spooled.size(), &short_source), 0);
-    EXPECT_FALSE(short_source);
-    ASSERT_EQ(writer.flush(), 0);
-    writer.set_fd(-1);
-  }
+  append_after(head, ends[1], spool, spooled.size(), Ahead::no, Source::whole);
   ::close(ends[1]);
   reader.join();
   ::close(ends[0]);
