@@ -154,9 +154,9 @@ PngDestination into(Decoded& decoded) {
   };
 }
 
-Decoded plain(const Bytes& png) {
+Decoded plain(const Bytes& png, PngCrcs crcs = PngCrcs::check) {
   Decoded decoded;
-  decoded.decoded = decode_plain_grey_png(png.data(), png.size(), into(decoded));
+  decoded.decoded = decode_plain_grey_png(png.data(), png.size(), into(decoded), crcs);
   return decoded;
 }
 
@@ -213,6 +213,25 @@ TEST(PngPlainDecoder, ReadsEmptyIdatChunksAndRowsWiderThanABatch) {
     decoded = plain(png_of(wide, {}, {{"IDAT", compressed(filtered(wide, {1, 4, 3}))}}, {}));
     ASSERT_TRUE(decoded.decoded) << width << " wide, " << bit_depth << "-bit";
     EXPECT_TRUE(decoded.samples == native_samples(wide)) << width << " wide, " << bit_depth;
+  }
+}
+
+// Image stacks check every chunk's CRC before decoding (image_file_check.h) and tell the decoder
+// so; told nothing, it checks IHDR's, IDAT's and IEND's itself.
+TEST(PngPlainDecoder, ChecksCrcsUnlessTheCallerHas) {
+  const Image image = random_image(40, 9, 8, 5);
+  const Bytes stream = compressed(filtered(image, {1, 2, 4}));
+  for (const int damaged : {0, 1, 2}) {  // IHDR, the second IDAT, IEND
+    std::vector<Chunk> chunks = {ihdr(image.width, image.height, image.bit_depth)};
+    for (const Chunk& idat : idat_chunks(stream, 100)) chunks.push_back(idat);
+    chunks.push_back({"IEND", {}});
+    (damaged == 0 ? chunks[0] : damaged == 1 ? chunks[2] : chunks.back()).damaged_crc = true;
+    const Bytes png = file_of(chunks);
+    SCOPED_TRACE("damaged CRC of chunk kind " + std::to_string(damaged));
+    EXPECT_FALSE(plain(png).decoded);
+    const Decoded trusted = plain(png, PngCrcs::checked_already);
+    ASSERT_TRUE(trusted.decoded);
+    EXPECT_TRUE(trusted.samples == native_samples(image));
   }
 }
 

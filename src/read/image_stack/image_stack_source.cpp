@@ -172,10 +172,13 @@ void ImageStackSource::load(std::size_t index) {
       return slice_buffer(path, width, height, SampleType::u8, 1, depth_text(SampleType::u8));
     });
   } else if (is_plain_grey_png(bytes, size)) {
-    decode_png_slice(path, bytes, size,
-                     [&](std::uint32_t width, std::uint32_t height, SampleType type) {
-                       return slice_buffer(path, width, height, type, 1, depth_text(type));
-                     });
+    // read_checked_file has checked every chunk's CRC.
+    decode_png_slice(
+        path, bytes, size,
+        [&](std::uint32_t width, std::uint32_t height, SampleType type) {
+          return slice_buffer(path, width, height, type, 1, depth_text(type));
+        },
+        PngCrcs::checked_already);
   } else {
     decode_image_with_opencv(path, bytes, size, [&](const DecodedImageShape& shape) {
       if (shape.channels == 1 && !shape.readable && info_.width == 0)

@@ -125,8 +125,8 @@ struct Header {
 };
 
 // IHDR of a grey, 8- or 16-bit, non-interlaced image with standard compression and filters.
-bool read_header(const Chunk& chunk, Header* header) {
-  if (!chunk.is("IHDR") || chunk.length != 13 || !chunk.crc_ok()) return false;
+bool read_header(const Chunk& chunk, bool check_crc, Header* header) {
+  if (!chunk.is("IHDR") || chunk.length != 13 || (check_crc && !chunk.crc_ok())) return false;
   const unsigned char* d = chunk.data;
   header->width = png_uint32(d);
   header->height = png_uint32(d + 4);
@@ -239,12 +239,13 @@ class RowInflater {
 }  // namespace
 
 bool decode_plain_grey_png(const unsigned char* bytes, std::size_t size,
-                           const PngDestination& destination) {
+                           const PngDestination& destination, PngCrcs crcs) {
   if (!has_png_signature(bytes, size)) return false;
+  const bool check_crcs = crcs == PngCrcs::check;
   Chunks chunks(bytes, size);
   Chunk chunk;
   Header header;
-  if (!chunks.next(&chunk) || !read_header(chunk, &header)) return false;
+  if (!chunks.next(&chunk) || !read_header(chunk, check_crcs, &header)) return false;
   // Up to the image data: ancillary chunks only (they do not change the samples).
   do {
     if (!chunks.next(&chunk)) return false;
@@ -268,13 +269,13 @@ bool decode_plain_grey_png(const unsigned char* bytes, std::size_t size,
   } trim{rows};
   RowInflater inflater(header, slice, rows);
   do {
-    if (!chunk.crc_ok() || !inflater.feed(chunk.data, chunk.length)) return false;
+    if ((check_crcs && !chunk.crc_ok()) || !inflater.feed(chunk.data, chunk.length)) return false;
     if (!chunks.next(&chunk)) return false;
   } while (chunk.is("IDAT"));
   if (!inflater.finish()) return false;
   // After the image data: ancillary chunks, then IEND.
   for (;;) {
-    if (chunk.is("IEND")) return chunk.length == 0 && chunk.crc_ok();
+    if (chunk.is("IEND")) return chunk.length == 0 && (!check_crcs || chunk.crc_ok());
     if (chunk.critical() || !chunks.next(&chunk)) return false;
   }
 }

@@ -25,7 +25,9 @@ namespace mvox {
 // caller's other decoder). May throw what `destination` throws, or std::bad_alloc. Keeps the
 // rows it inflates into, 64 KiB and a row, per thread between calls; more than 1 MiB (rows of
 // over half a mebibyte) is given back after each call.
+// With PngCrcs::checked_already the caller has checked every chunk's CRC up to IEND
+// (image_file_check.h does for image stacks), and they are not computed twice.
 bool decode_plain_grey_png(const unsigned char* bytes, std::size_t size,
-                           const PngDestination& destination);
+                           const PngDestination& destination, PngCrcs crcs = PngCrcs::check);
 
 }  // namespace mvox

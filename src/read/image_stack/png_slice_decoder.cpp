@@ -106,7 +106,7 @@ bool is_plain_grey_png(const unsigned char* bytes, std::size_t size) {
 }
 
 void decode_png_slice(const std::string& path, const unsigned char* bytes, std::size_t size,
-                      const PngDestination& slice_destination) {
+                      const PngDestination& slice_destination, PngCrcs crcs) {
   // The destination is asked for once, whichever decoder asks (the same header gives both the
   // same size and type).
   unsigned char* slice = nullptr;
@@ -115,7 +115,7 @@ void decode_png_slice(const std::string& path, const unsigned char* bytes, std::
     if (slice == nullptr) slice = slice_destination(width, height, type);
     return slice;
   };
-  if (!decode_plain_grey_png(bytes, size, destination))
+  if (!decode_plain_grey_png(bytes, size, destination, crcs))
     decode_png_with_libpng(path, bytes, size, destination);
 }
 
