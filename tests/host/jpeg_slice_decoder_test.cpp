@@ -23,6 +23,7 @@
 
 #include "error.h"
 #include "error_capture.h"
+#include "file_io.h"
 #include "jpeg_damage.h"
 
 namespace fs = std::filesystem;
@@ -308,18 +309,11 @@ std::vector<Seed> fuzz_seeds() {
 }
 
 TEST(JpegSliceDecoder, FuzzSeeds) {
-  const char* write_to = std::getenv("MVOX_WRITE_FUZZ_SEEDS");
   for (const Seed& seed : fuzz_seeds()) {
     SCOPED_TRACE(seed.name);
-    if (write_to) {
-      std::ofstream(fs::path(write_to) / seed.name, std::ios::binary)
-          .write(reinterpret_cast<const char*>(seed.bytes.data()),
-                 static_cast<std::streamsize>(seed.bytes.size()));
-    }
-    const fs::path committed = fs::path(MVOX_FUZZ_CORPUS) / "jpeg_slice_decoder_fuzzer" / seed.name;
-    std::ifstream in(committed, std::ios::binary);
-    ASSERT_TRUE(in) << committed << " is missing";
-    const Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const Bytes bytes = test::committed_fuzz_seed(
+        fs::path(MVOX_FUZZ_CORPUS) / "jpeg_slice_decoder_fuzzer", seed.name, seed.bytes);
+    ASSERT_FALSE(bytes.empty());
     if (seed.valid)
       expect_same_as_opencv(bytes);
     else

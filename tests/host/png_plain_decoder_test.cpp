@@ -8,11 +8,8 @@
 #include <png.h>
 #include <zlib.h>
 
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
@@ -20,6 +17,8 @@
 #include "error.h"
 #include "read/image_stack/png_slice_decoder.h"
 #include "support/error_capture.h"
+#include "support/file_io.h"
+#include "support/libpng_writer.h"
 
 namespace mvox {
 namespace {
@@ -237,36 +236,22 @@ TEST(PngPlainDecoder, ChecksCrcsUnlessTheCallerHas) {
 
 // Written by libpng with its adaptive filters, text and gamma chunks before and after the image
 // data, and IDAT chunks of 256 bytes: the decoder reads what libpng writes, as libpng reads it.
-void append(png_structp png, png_bytep data, png_size_t count) {
-  auto* out = static_cast<Bytes*>(png_get_io_ptr(png));
-  out->insert(out->end(), data, data + count);
-}
-
 Bytes libpng_file(const Image& image) {
-  Bytes out;
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  if (setjmp(png_jmpbuf(png))) {
-    ADD_FAILURE() << "libpng could not write the test image";
-    return {};
-  }
-  png_set_write_fn(png, &out, &append, nullptr);
-  png_set_compression_buffer_size(png, 256);
-  png_set_IHDR(png, info, image.width, image.height, image.bit_depth, PNG_COLOR_TYPE_GRAY,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_gAMA(png, info, 0.45455);
-  png_text text{};
-  text.compression = PNG_TEXT_COMPRESSION_NONE;
-  text.key = const_cast<char*>("Comment");
-  text.text = const_cast<char*>("slice");
-  png_set_text(png, info, &text, 1);
-  png_write_info(png, info);
-  for (std::uint32_t y = 0; y < image.height; ++y)
-    png_write_row(png, image.rows.data() + y * image.row_bytes());
-  png_set_text(png, info, &text, 1);  // a second tEXt, after the image data
-  png_write_end(png, info);
-  png_destroy_write_struct(&png, &info);
-  return out;
+  return test::png_written_by_libpng([&](png_structp png, png_infop info) {
+    png_set_compression_buffer_size(png, 256);
+    png_set_IHDR(png, info, image.width, image.height, image.bit_depth, PNG_COLOR_TYPE_GRAY,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_gAMA(png, info, 0.45455);
+    png_text text{};
+    text.compression = PNG_TEXT_COMPRESSION_NONE;
+    text.key = const_cast<char*>("Comment");
+    text.text = const_cast<char*>("slice");
+    png_set_text(png, info, &text, 1);
+    png_write_info(png, info);
+    for (std::uint32_t y = 0; y < image.height; ++y)
+      png_write_row(png, image.rows.data() + y * image.row_bytes());
+    png_set_text(png, info, &text, 1);  // a second tEXt, after the image data
+  });
 }
 
 TEST(PngPlainDecoder, ReadsWhatLibpngWrites) {
@@ -417,17 +402,11 @@ TEST(PngPlainDecoder, FuzzSeeds) {
       {"bad_filter_8bit_9x6.png", png_of(small, {}, {{"IDAT", compressed(bad_filter)}}, {}), false,
        nullptr},
   };
-  const char* write_to = std::getenv("MVOX_WRITE_FUZZ_SEEDS");
   for (const Seed& seed : seeds) {
     SCOPED_TRACE(seed.name);
-    if (write_to)
-      std::ofstream(fs::path(write_to) / seed.name, std::ios::binary)
-          .write(reinterpret_cast<const char*>(seed.bytes.data()),
-                 static_cast<std::streamsize>(seed.bytes.size()));
-    const fs::path committed = fs::path(MVOX_FUZZ_CORPUS) / "png_slice_decoder_fuzzer" / seed.name;
-    std::ifstream in(committed, std::ios::binary);
-    ASSERT_TRUE(in) << committed << " is missing";
-    const Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const Bytes bytes = test::committed_fuzz_seed(
+        fs::path(MVOX_FUZZ_CORPUS) / "png_slice_decoder_fuzzer", seed.name, seed.bytes);
+    ASSERT_FALSE(bytes.empty());
     const Decoded decoded = plain(bytes);
     EXPECT_EQ(decoded.decoded, seed.plain);
     if (seed.plain)

@@ -15,14 +15,10 @@
 
 #include "error.h"
 #include "support/error_capture.h"
+#include "support/libpng_writer.h"
 
 namespace mvox {
 namespace {
-
-void append(png_structp png, png_bytep data, png_size_t count) {
-  auto* out = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(png));
-  out->insert(out->end(), data, data + count);
-}
 
 // A PNG written with libpng: grey samples `values` (one per pixel, below 2^bit_depth), or with
 // `color_type` and a tRNS chunk when asked, so every layout a scanner might export is covered.
@@ -30,23 +26,6 @@ std::vector<unsigned char> make_png(int width, int height, int bit_depth, bool i
                                     const std::vector<unsigned>& values,
                                     int color_type = PNG_COLOR_TYPE_GRAY,
                                     bool transparent = false) {
-  std::vector<unsigned char> out;
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  if (setjmp(png_jmpbuf(png))) {
-    ADD_FAILURE() << "libpng could not write the test image";
-    return {};
-  }
-  png_set_write_fn(png, &out, &append, nullptr);
-  png_set_IHDR(png, info, width, height, bit_depth, color_type,
-               interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
-  if (transparent) {
-    png_color_16 value{};
-    value.gray = 1;
-    png_set_tRNS(png, info, nullptr, 0, &value);
-  }
-  png_write_info(png, info);
   const int channels = color_type == PNG_COLOR_TYPE_GRAY_ALPHA ? 2 : 1;
   const int bits_per_pixel = bit_depth * channels;
   const std::size_t row_bytes = (static_cast<std::size_t>(width) * bits_per_pixel + 7) / 8;
@@ -70,10 +49,18 @@ std::vector<unsigned char> make_png(int width, int height, int bit_depth, bool i
   }
   std::vector<png_bytep> pointers;
   for (auto& row : rows) pointers.push_back(row.data());
-  png_write_image(png, pointers.data());
-  png_write_end(png, info);
-  png_destroy_write_struct(&png, &info);
-  return out;
+  return test::png_written_by_libpng([&](png_structp png, png_infop info) {
+    png_set_IHDR(png, info, width, height, bit_depth, color_type,
+                 interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (transparent) {
+      png_color_16 value{};
+      value.gray = 1;
+      png_set_tRNS(png, info, nullptr, 0, &value);
+    }
+    png_write_info(png, info);
+    png_write_image(png, pointers.data());
+  });
 }
 
 std::vector<unsigned> random_values(int count, int bit_depth, unsigned seed) {

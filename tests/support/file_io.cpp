@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -30,6 +31,20 @@ void write_bytes(const std::filesystem::path& path, const std::vector<unsigned c
 }
 
 void touch(const std::filesystem::path& path) { write_bytes(path, std::vector<unsigned char>{}); }
+
+std::vector<unsigned char> committed_fuzz_seed(const std::filesystem::path& corpus_dir,
+                                               const std::string& name,
+                                               const std::vector<unsigned char>& made) {
+  if (const char* write_to = std::getenv("MVOX_WRITE_FUZZ_SEEDS"))
+    write_bytes(std::filesystem::path(write_to) / name, made);
+  const std::filesystem::path committed = corpus_dir / name;
+  if (!std::filesystem::exists(committed)) {
+    ADD_FAILURE() << committed << " is missing";
+    return {};
+  }
+  const std::string bytes = read_bytes(committed);
+  return std::vector<unsigned char>(bytes.begin(), bytes.end());
+}
 
 bool exists(const std::string& path) {
   struct stat status {};

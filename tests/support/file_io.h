@@ -22,6 +22,14 @@ void touch(const std::filesystem::path& path);
 // the input, so that meshes from different inputs compare ("" without a header).
 std::string ply_body(const std::filesystem::path& path);
 
+// The committed fuzz seed `corpus_dir`/`name` as bytes, after writing `made` there instead of
+// into the corpus when MVOX_WRITE_FUZZ_SEEDS=DIR is set (DIR/`name`): tests make their seeds,
+// then check that what is committed still behaves as made. A missing seed fails the test and
+// gives no bytes.
+std::vector<unsigned char> committed_fuzz_seed(const std::filesystem::path& corpus_dir,
+                                               const std::string& name,
+                                               const std::vector<unsigned char>& made);
+
 // True when `path` names something (stat() succeeds: a dangling link does not count).
 bool exists(const std::string& path);
 
