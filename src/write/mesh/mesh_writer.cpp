@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "write/mesh/polygon_scan.h"
 #include "write/mesh/polygon_triangulation.h"
 
 namespace mvox {
@@ -110,24 +111,16 @@ Status MeshWriter::consume_placed_vertices(const WorldVertex* vertices, std::siz
 
 void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count,
                                 std::uint32_t index_offset) const {
-  // Branch-free per polygon: the largest index and whether the size is in range, folded over the
-  // batch; the message is built only for a batch that fails. A slab's indices are moved by one
-  // offset: below 2^32 vertices every moved index is below 2^32 too, so the largest, moved
-  // without wrapping, must be in range.
-  std::uint32_t highest = 0;
-  bool sizes_ok = true;
-  for (std::size_t i = 0; i < polygon_count; ++i) {
-    const Polygon& polygon = polygons[i];
-    const unsigned count = polygon.vertex_count;
-    sizes_ok &= count - 3u <= unsigned{kMaxPolygonVertices} - 3u;
-    for (int k = 0; k < kMaxPolygonVertices; ++k)
-      if (k < static_cast<int>(count)) highest = std::max(highest, polygon.vertices[k]);
-  }
+  // The largest index and whether the sizes are in range, folded over the batch without a
+  // branch per polygon (polygon_scan.h); the message is built only for a batch that fails. A
+  // slab's indices are moved by one offset: below 2^32 vertices every moved index is below 2^32
+  // too, so the largest, moved without wrapping, must be in range.
+  const PolygonScan scan = scan_polygons(polygons, polygon_count);
   // Below 2^32 vertices an index is its whole self. Beyond, whole_vertex_index() puts every
   // index among the last 2^32 taken: none can be out of range.
   const bool whole = vertex_count_ <= kMaxVerticesBack;
-  if (sizes_ok && (polygon_count == 0 || !whole || highest + std::uint64_t{index_offset} <
-                                                       vertex_count_))
+  if (scan.sizes_ok &&
+      (polygon_count == 0 || !whole || scan.highest + std::uint64_t{index_offset} < vertex_count_))
     return;
   for (std::size_t i = 0; i < polygon_count; ++i) {
     const Polygon& polygon = polygons[i];

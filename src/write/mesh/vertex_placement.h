@@ -36,6 +36,7 @@ class VertexPlacement {
  private:
   WorldTransform transform_;
   bool axis_aligned_;
+  bool identity_;  // axis-aligned, spacing 1, origin +0
   Matrix3d normal_matrix_;
   bool with_normals_;
 };

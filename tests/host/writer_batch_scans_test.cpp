@@ -1,0 +1,156 @@
+// The mesh writer's per-batch work on its fast paths, against the plain loops it replaced:
+// scan_polygons (every batch's sizes and largest index) and VertexPlacement::place (every
+// vertex's world position). Both must give exactly what the plain loops give, whatever the
+// slots past a polygon's size hold and wherever a vertex leaves float's range.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "mvox/mesh.h"
+#include "write/mesh/polygon_scan.h"
+#include "write/mesh/vertex_placement.h"
+#include "write/mesh/world_transform.h"
+
+namespace mvox {
+namespace {
+
+// Polygons of every size 0..255 (mostly 3 to 7), indices of any magnitude, and the slots past
+// the size and the padding after the count filled with noise that must not count.
+std::vector<Polygon> noisy_polygons(std::mt19937& random, std::size_t count) {
+  std::vector<Polygon> polygons(count);
+  for (Polygon& polygon : polygons) {
+    unsigned char bytes[sizeof(Polygon)];
+    for (unsigned char& byte : bytes) byte = static_cast<unsigned char>(random());
+    std::memcpy(static_cast<void*>(&polygon), bytes, sizeof bytes);
+    const unsigned pick = random() % 16;
+    polygon.vertex_count = static_cast<std::uint8_t>(pick < 12 ? 3 + pick % 5 : random() % 256);
+    const std::uint32_t scale = 1u << (random() % 32);
+    for (int k = 0; k < polygon.vertex_count && k < kMaxPolygonVertices; ++k)
+      polygon.vertices[k] = static_cast<std::uint32_t>(random()) % scale;
+  }
+  return polygons;
+}
+
+TEST(PolygonScan, AgreesWithTheSlotBySlotLoopWhateverTheUnusedSlotsHold) {
+  std::mt19937 random(20261127);
+  for (int batch = 0; batch < 2000; ++batch) {
+    const std::vector<Polygon> polygons = noisy_polygons(random, random() % 40);
+    const PolygonScan fast = scan_polygons(polygons.data(), polygons.size());
+    const PolygonScan plain = scan_polygons_portable(polygons.data(), polygons.size());
+    ASSERT_EQ(fast.sizes_ok, plain.sizes_ok) << "batch " << batch;
+    ASSERT_EQ(fast.highest, plain.highest) << "batch " << batch;
+  }
+}
+
+TEST(PolygonScan, CountsOnlyEachPolygonsOwnSlotsAndFlagsEverySizeOutOfRange) {
+  Polygon triangle;
+  triangle.vertex_count = 3;
+  for (std::uint32_t& slot : triangle.vertices) slot = 0xffffffffu;  // past the size: noise
+  triangle.vertices[0] = 5;
+  triangle.vertices[1] = 9;
+  triangle.vertices[2] = 7;
+  PolygonScan scan = scan_polygons(&triangle, 1);
+  EXPECT_TRUE(scan.sizes_ok);
+  EXPECT_EQ(scan.highest, 9u);
+  for (unsigned size : {0u, 1u, 2u, 8u, 255u}) {
+    Polygon polygon = triangle;
+    polygon.vertex_count = static_cast<std::uint8_t>(size);
+    EXPECT_FALSE(scan_polygons(&polygon, 1).sizes_ok) << size;
+  }
+  for (unsigned size = 3; size <= kMaxPolygonVertices; ++size) {
+    Polygon polygon = triangle;
+    polygon.vertex_count = static_cast<std::uint8_t>(size);
+    scan = scan_polygons(&polygon, 1);
+    EXPECT_TRUE(scan.sizes_ok) << size;
+    EXPECT_EQ(scan.highest, size > 3 ? 0xffffffffu : 9u) << size;
+  }
+  scan = scan_polygons(nullptr, 0);
+  EXPECT_TRUE(scan.sizes_ok);
+  EXPECT_EQ(scan.highest, 0u);
+}
+
+// The floats of the plain placement: float(origin + spacing * v) per axis, in double.
+void expect_placed_as_plain(const WorldTransform& transform, const std::vector<Vertex>& vertices,
+                            const std::vector<WorldVertex>& placed, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vector3d world =
+        transform.axis_aligned_position(vertices[i].x, vertices[i].y, vertices[i].z);
+    for (int axis = 0; axis < 3; ++axis) {
+      const float expected = static_cast<float>(world[axis]);
+      // Bit for bit: +0 and -0 differ in a file.
+      ASSERT_EQ(std::memcmp(&placed[i].position[axis], &expected, sizeof expected), 0)
+          << "vertex " << i << " axis " << axis << ": " << placed[i].position[axis] << " vs "
+          << expected;
+    }
+  }
+}
+
+TEST(VertexPlacement, AxisAlignedBatchesPlaceBitForBitAsThePlainSumForAnySpacingAndOrigin) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> coordinate(-0.5f, 4000.0f);
+  struct Case {
+    std::array<double, 3> spacing, origin;
+  };
+  const Case cases[] = {
+      {{1, 1, 1}, {0, 0, 0}},                     // a raw volume's default
+      {{1, 1, 1}, {-0.0, 0, -0.0}},               // -0 origins keep -0 coordinates
+      {{0.3, 0.7, 2.5}, {-120.25, 33.5, 1e-3}},   // a CT series
+      {{1.0 / 3.0, 1e-4, 17.0}, {7e6, -0.0, 0}},  // roundings in every term
+  };
+  for (const Case& c : cases) {
+    WorldTransform transform;
+    for (int axis = 0; axis < 3; ++axis) {
+      transform.spacing[axis] = c.spacing[axis];
+      transform.origin[axis] = c.origin[axis];
+    }
+    transform.check("test");
+    std::vector<Vertex> vertices(5000);
+    for (Vertex& v : vertices) {
+      v = {coordinate(random), coordinate(random), coordinate(random)};
+      v.axis = static_cast<Axis>(random() % 3);
+      v.inner_is_lower = random() % 2;
+    }
+    vertices[0] = {-0.0f, 0.0f, -0.0f};  // signed zeros, on every path
+    vertices[1] = {-0.5f, -0.5f, -0.5f};
+    for (bool normals : {false, true}) {
+      const VertexPlacement placement(transform, normals);
+      const std::vector<glm::vec3> given(vertices.size(), glm::vec3(0.6f, -0.8f, 0.0f));
+      std::vector<WorldVertex> placed(vertices.size());
+      ASSERT_EQ(placement.place(vertices.data(), normals ? given.data() : nullptr, vertices.size(),
+                                placed.data()),
+                vertices.size());
+      expect_placed_as_plain(transform, vertices, placed, vertices.size());
+      if (normals)
+        for (std::size_t i = 0; i < vertices.size(); ++i)
+          for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(placed[i].normal[axis], given[i][axis]);
+    }
+  }
+}
+
+TEST(VertexPlacement, AFastBatchNamesTheSameFirstVertexBeyondFloatsRangeAsThePlainLoop) {
+  WorldTransform transform;
+  transform.spacing = {1.0, 1e36, 1.0};  // y beyond 340 leaves float's range
+  transform.check("test");
+  for (bool normals : {false, true}) {
+    const VertexPlacement placement(transform, normals);
+    for (std::size_t outside : {0u, 1u, 7u, 4095u}) {
+      std::vector<Vertex> vertices(4096, Vertex{1.5f, 2.0f, 3.0f});
+      vertices[outside].y = 400.0f;
+      vertices.back().y = 500.0f;  // a later one changes nothing
+      const std::vector<glm::vec3> given(vertices.size(), glm::vec3(0, 0, 1));
+      std::vector<WorldVertex> placed(vertices.size());
+      EXPECT_EQ(placement.place(vertices.data(), normals ? given.data() : nullptr, vertices.size(),
+                                placed.data()),
+                outside);
+      expect_placed_as_plain(transform, vertices, placed, outside);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mvox
