@@ -9,6 +9,8 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define MVOX_HAVE_AVX2_PATH 1
 #include <cpuid.h>
+
+#include <atomic>
 // For a function compiled for AVX2, BMI1/2 and POPCNT. `flatten` inlines everything it calls
 // (the walk's template, its action, the running counts' methods): GCC and clang refuse to inline
 // a function compiled for AVX2 into one that is not, so without it those would stay calls.
@@ -21,8 +23,9 @@
 
 namespace mvox {
 
-// True when this CPU and its operating system run AVX2, BMI1, BMI2 and POPCNT instructions.
-inline bool cpu_has_avx2_bmi2() {
+// True when this CPU and its operating system run AVX2, BMI1, BMI2 and POPCNT instructions:
+// asked of the CPU itself (cpu_reports_avx2_bmi2), once per process.
+inline bool cpu_reports_avx2_bmi2() {
 #if MVOX_HAVE_AVX2_PATH
   unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
   if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
@@ -35,6 +38,25 @@ inline bool cpu_has_avx2_bmi2() {
   if (!__get_cpuid_count(7, 0, &eax, &ebx, &ecx, &edx)) return false;
   const bool bmi1 = ebx >> 3 & 1, avx2 = ebx >> 5 & 1, bmi2 = ebx >> 8 & 1;
   return bmi1 && avx2 && bmi2;
+#else
+  return false;
+#endif
+}
+
+// Kept after the first call: under a hypervisor each cpuid and xgetbv traps to it, about 8
+// microseconds here, and Engine::init asks once per slab (64 slabs in a 256x256x1024 run). A
+// constant-initialised atomic, not a static initialised by a call, which would need the C++
+// runtime's guard functions (the core calls none: core_symbols_test.sh); threads that race to
+// the first call each ask the CPU and store the same answer.
+inline bool cpu_has_avx2_bmi2() {
+#if MVOX_HAVE_AVX2_PATH
+  static std::atomic<unsigned char> known{0};  // 0: not asked yet, 1: no, 2: yes
+  unsigned char answer = known.load(std::memory_order_relaxed);
+  if (answer == 0) {
+    answer = cpu_reports_avx2_bmi2() ? 2 : 1;
+    known.store(answer, std::memory_order_relaxed);
+  }
+  return answer == 2;
 #else
   return false;
 #endif
