@@ -54,6 +54,20 @@ head -c 800 "$inputs/thin4.raw" | (cd "$inputs/per_slice" && split -b 4 -a 3 -d 
 "$before" phantom sphere -o "$inputs/sphere" --size 8x8x3000 -q
 "$before" phantom blobs -o "$inputs/blobs" --size 40x30x60 --bits 16 -q
 "$before" phantom torus -o "$inputs/torus" --size 64x64x64 -q
+random_file small.raw $((24 * 20 * 50))    # 24x20x50 u8
+# small.raw with oriented axes, rotated and mirrored (determinant -1), spacing and an origin: the
+# writers' general placement, and mirrored winding.
+cat > "$inputs/small_mirrored.nhdr" << 'NRRD'
+NRRD0004
+type: uint8
+dimension: 3
+sizes: 24 20 50
+space: right-anterior-superior
+space directions: (0,-0.5,0) (-0.75,0,0) (0,0.1,1.5)
+space origin: (10.25,-20,3.5)
+encoding: raw
+data file: small.raw
+NRRD
 
 # --- cases ------------------------------------------------------------------------------------
 # Each case is a shell command run in a directory of its own, with $MVOX the binary and $IN the
@@ -67,6 +81,9 @@ add line-all '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply --no
 add line-ascii '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply --ascii -q'
 add line-stl '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.stl --image p.png --flat -q'
 add line-obj '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.obj --normals -q'
+add small-stl-placed '$MVOX extract $IN/small.raw --raw 24x20x50:u8 -t 128 -o m.stl --spacing 0.3,0.7,2.5 --origin -12.5,3.25,0.001 -q'
+add small-stl-mirrored '$MVOX extract $IN/small_mirrored.nhdr -t 128 -o m.stl -q'
+add small-tri-mirrored '$MVOX extract $IN/small_mirrored.nhdr -t 128 -o m.ply --triangulate --normals -q'
 add line-tri '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply --triangulate --spacing 1,2,0.5 -q'
 add line-cubes '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply --method cubes --normals --stats s.json -q'
 add line-literal '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply --engine literal --stats s.json -q'

@@ -1,7 +1,9 @@
 // The mesh writer's per-batch work on its fast paths, against the plain loops it replaced:
-// scan_polygons (every batch's sizes and largest index) and VertexPlacement::place (every
-// vertex's world position). Both must give exactly what the plain loops give, whatever the
-// slots past a polygon's size hold and wherever a vertex leaves float's range.
+// scan_polygons (every batch's sizes and largest index), VertexPlacement::place (every
+// vertex's world position), CornerPlacement (STL's corners) and
+// stl_face_normals (STL's normals, two triangles at a time). Both must give exactly what the plain
+// loops give, whatever the slots past a polygon's size hold and wherever a vertex leaves float's
+// range.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +14,8 @@
 #include <vector>
 
 #include "mvox/mesh.h"
+#include "write/mesh/binary_records.h"
+#include "write/mesh/corner_placement.h"
 #include "write/mesh/polygon_scan.h"
 #include "write/mesh/vertex_placement.h"
 #include "write/mesh/world_transform.h"
@@ -151,6 +155,77 @@ TEST(VertexPlacement, AFastBatchNamesTheSameFirstVertexBeyondFloatsRangeAsThePla
     }
   }
 }
+
+// STL's corners are placed a polygon at a time by CornerPlacement: the floats of
+// WorldTransform::position() itself, for rotated and mirrored axes too, and -0 origins.
+TEST(CornerPlacement, CornersAreWherePositionPutsThemBitForBitOnAnyAxes) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> coordinate(-0.5f, 600.0f);
+  std::uniform_real_distribution<double> component(-1.0, 1.0);
+  std::vector<WorldTransform> transforms(5);
+  transforms[1].spacing = {0.3, 0.7, 2.5};
+  transforms[1].origin = {-0.0, 12.5, -7e3};  // position() turns -0 + -0 into +0
+  transforms[4].spacing = {0.3, 0.7, 2.5};
+  transforms[4].origin = {-120.25, 0.0, 33.5};
+  transforms[2].axes = {{{0, -1, 0}, {-1, 0, 0}, {0, 0.1, 1}}};  // mirrored, sheared
+  transforms[2].origin = {10.25, -20, 3.5};
+  for (auto& row : transforms[3].axes)  // any axes that span space
+    for (double& value : row) value = component(random);
+  transforms[3].spacing = {1.0 / 3.0, 1e-3, 17.0};
+  for (const WorldTransform& transform : transforms) {
+    transform.check("test");
+    const CornerPlacement corners(transform);
+    std::vector<Vertex> vertices(kMaxPolygonVertices);
+    for (int round = 0; round < 500; ++round) {
+      for (Vertex& v : vertices) v = {coordinate(random), coordinate(random), coordinate(random)};
+      if (round == 0) vertices[0] = {-0.0f, 0.0f, -0.0f};
+      float placed[kMaxPolygonVertices][3];
+      const int count = 1 + round % kMaxPolygonVertices;
+      ASSERT_TRUE(corners.place(vertices.data(), count, placed));
+      for (int i = 0; i < count; ++i) {
+        const Vector3d world = transform.position(vertices[i].x, vertices[i].y, vertices[i].z);
+        for (int axis = 0; axis < 3; ++axis) {
+          const float expected = static_cast<float>(world[axis]);
+          ASSERT_EQ(std::memcmp(&placed[i][axis], &expected, sizeof expected), 0)
+              << "vertex " << i << " axis " << axis;
+        }
+      }
+    }
+  }
+  WorldTransform far;
+  far.spacing = {1.0, 1.0, 1e36};  // z beyond 340 leaves float's range
+  far.check("test");
+  const Vertex vertices[2] = {{1.0f, 2.0f, 3.0f}, {1.0f, 2.0f, 400.0f}};
+  float placed[2][3];
+  const CornerPlacement corners(far);
+  EXPECT_TRUE(corners.place(vertices, 1, placed));
+  EXPECT_FALSE(corners.place(vertices, 2, placed));
+}
+
+#if defined(__SSE2__)
+// STL's face normals two triangles at a time: the floats of the one-at-a-time formula, for
+// ordinary, needle-thin and degenerate (no area: normal 0) triangles.
+TEST(StlFaceNormals, APairGivesEachTriangleTheNormalItGetsAlone) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> coordinate(-300.0f, 300.0f);
+  for (int round = 0; round < 20000; ++round) {
+    float p[3][3], q[3][3];
+    for (auto* triangle : {p, q})
+      for (int k = 0; k < 3; ++k)
+        for (int axis = 0; axis < 3; ++axis) triangle[k][axis] = coordinate(random);
+    if (round % 4 == 1) std::memcpy(q[2], q[1], sizeof q[1]);     // two corners alike: no area
+    if (round % 4 == 2) p[2][0] = std::nextafter(p[1][0], 1e9f);  // almost none
+    if (round % 4 == 3)
+      for (int axis = 0; axis < 3; ++axis) p[2][axis] = 2 * p[1][axis] - p[0][axis];  // a line
+    float pair_p[3], pair_q[3], alone_p[3], alone_q[3];
+    stl_face_normals(p, q, pair_p, pair_q);
+    stl_face_normal(p, alone_p);
+    stl_face_normal(q, alone_q);
+    ASSERT_EQ(std::memcmp(pair_p, alone_p, sizeof alone_p), 0) << "round " << round;
+    ASSERT_EQ(std::memcmp(pair_q, alone_q, sizeof alone_q), 0) << "round " << round;
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace mvox

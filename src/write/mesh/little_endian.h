@@ -1,15 +1,22 @@
 #pragma once
-// Little-endian stores by shifts, so binary PLY and STL files are the same on any host.
+// Little-endian stores, so binary PLY and STL files are the same on any host: on a
+// little-endian host the value's own four bytes in one store, elsewhere by shifts. (GCC did not
+// always merge the four shifted byte stores into one: in STL's triangle loop each float went out
+// a byte at a time.)
 #include <cstdint>
 #include <cstring>
 
 namespace mvox {
 
 inline unsigned char* store_le32(unsigned char* out, std::uint32_t value) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  std::memcpy(out, &value, sizeof value);
+#else
   out[0] = static_cast<unsigned char>(value);
   out[1] = static_cast<unsigned char>(value >> 8);
   out[2] = static_cast<unsigned char>(value >> 16);
   out[3] = static_cast<unsigned char>(value >> 24);
+#endif
   return out + 4;
 }
 

@@ -39,6 +39,7 @@ MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, Positions 
       needs_geometry_(triangulate_ || positions_needed_),
       mirrors_(options_.transform.mirrors()),
       placement_(options_.transform, options_.writes_normals()),
+      corner_placement_(options_.transform),
       faces_(kFacesPerRun),
       face_positions_(positions_needed_ ? kFacesPerRun : 0),
       vertex_count_(options_.part ? options_.part->first_vertex : 0) {}
@@ -199,19 +200,28 @@ Status MeshWriter::consume_polygon_geometry(const PolygonGeometry* polygons,
 
 void MeshWriter::add_faces(const Polygon& polygon, const PolygonGeometry* geometry) {
   const std::uint8_t in_order[kMaxPolygonVertices] = {0, 1, 2, 3, 4, 5, 6};
+  // With positions, the polygon's corners are placed once here, not once for each triangle
+  // that uses them. Each was checked when it arrived by index; one beyond float's range here
+  // (converting it would be undefined behaviour) is named by add_face's careful placement.
+  float placed[kMaxPolygonVertices][3];
+  const float(*positions)[3] = nullptr;
+  if (positions_needed_ && geometry && polygon.vertex_count <= kMaxPolygonVertices &&
+      corner_placement_.place(geometry->vertices, polygon.vertex_count, placed))
+    positions = placed;
   if (!triangulate_ || polygon.vertex_count == 3) {
-    add_face(polygon, geometry, in_order, polygon.vertex_count);
+    add_face(polygon, geometry, positions, in_order, polygon.vertex_count);
     return;
   }
   PolygonTriangles triangles;
   if (!triangulate_polygon(*geometry, &triangles))
     throw Error(subject(), "internal error: a " + std::to_string(polygon.vertex_count) +
                                "-gon cannot be split without a diagonal on a cube face");
-  for (int t = 0; t < triangles.count; ++t) add_face(polygon, geometry, triangles.corners[t], 3);
+  for (int t = 0; t < triangles.count; ++t)
+    add_face(polygon, geometry, positions, triangles.corners[t], 3);
 }
 
 void MeshWriter::add_face(const Polygon& polygon, const PolygonGeometry* geometry,
-                          const std::uint8_t* corners, int corner_count) {
+                          const float (*placed)[3], const std::uint8_t* corners, int corner_count) {
   // Faces go out in small runs, so the buffer stays small whatever the engine's batch size.
   if (face_fill_ == faces_.size()) flush_faces();
   // Reused without clearing: only the first vertex_count entries of a face are ever read.
@@ -224,17 +234,20 @@ void MeshWriter::add_face(const Polygon& polygon, const PolygonGeometry* geometr
     // backwards from the first turns it back, so the outward side stays outward.
     const int corner = corners[mirrors_ ? (corner_count - k) % corner_count : k];
     face.vertices[k] = polygon.vertices[corner];
-    if (positions) {
-      const Vertex& vertex = geometry->vertices[corner];
-      const Vector3d world = options_.transform.position(vertex.x, vertex.y, vertex.z);
-      for (int axis = 0; axis < 3; ++axis) {
-        // Checked when the vertex arrived by index; checked again here because the cast of a
-        // double beyond float's range would be undefined behaviour.
-        if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max()))
-          throw Error(subject(), "vertex " + std::to_string(face.vertices[k]) +
-                                     " lies outside the float range after spacing and origin");
-        positions[k][axis] = static_cast<float>(world[axis]);
-      }
+    if (!positions) continue;
+    if (placed) {
+      for (int axis = 0; axis < 3; ++axis) positions[k][axis] = placed[corner][axis];
+      continue;
+    }
+    const Vertex& vertex = geometry->vertices[corner];
+    const Vector3d world = options_.transform.position(vertex.x, vertex.y, vertex.z);
+    for (int axis = 0; axis < 3; ++axis) {
+      // Checked when the vertex arrived by index; checked again here because the cast of a
+      // double beyond float's range would be undefined behaviour.
+      if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max()))
+        throw Error(subject(), "vertex " + std::to_string(face.vertices[k]) +
+                                   " lies outside the float range after spacing and origin");
+      positions[k][axis] = static_cast<float>(world[axis]);
     }
   }
 }

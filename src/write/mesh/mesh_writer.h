@@ -10,6 +10,7 @@
 #include "error.h"
 #include "mvox/polygon_sink.h"
 #include "mvox/vertex_normals.h"
+#include "write/mesh/corner_placement.h"
 #include "write/mesh/vertex_placement.h"
 #include "write/mesh/world_transform.h"
 #include "write/output_file.h"
@@ -167,7 +168,9 @@ class MeshWriter : public PolygonSink {
   // Appends `polygon`'s faces (itself, or its triangles when `geometry` is given and the writer
   // triangulates) to faces_.
   void add_faces(const Polygon& polygon, const PolygonGeometry* geometry);
-  void add_face(const Polygon& polygon, const PolygonGeometry* geometry,
+  // `placed`: the polygon's corners in the world, by corner, when add_faces() placed them; null
+  // to place each corner here (and name one beyond float's range).
+  void add_face(const Polygon& polygon, const PolygonGeometry* geometry, const float (*placed)[3],
                 const std::uint8_t* corners, int corner_count);
   void flush_faces();
 
@@ -177,6 +180,7 @@ class MeshWriter : public PolygonSink {
   bool needs_geometry_;
   bool mirrors_;
   VertexPlacement placement_;
+  CornerPlacement corner_placement_;  // with positions (STL): a polygon's corners at a time
   std::vector<glm::vec3> normal_batch_;
   std::vector<WorldVertex> vertex_batch_;
   // kFacesPerRun faces (and their positions, if needed), the first face_fill_ in use.

@@ -1,0 +1,77 @@
+#include "write/mesh/corner_placement.h"
+
+#include <cmath>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace mvox {
+
+CornerPlacement::CornerPlacement(const WorldTransform& transform) : transform_(transform) {
+  plain_sum_ = transform.is_axis_aligned();
+  for (int axis = 0; axis < 3; ++axis)
+    if (transform.origin[axis] == 0.0 && std::signbit(transform.origin[axis])) plain_sum_ = false;
+}
+
+bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) const {
+#if defined(__SSE2__)
+  // The world's x and y side by side in one register, z in the low lane of another (its high
+  // lane stays 0, which passes the range check).
+  const WorldTransform& t = transform_;
+  const __m128d origin_xy = _mm_setr_pd(t.origin[0], t.origin[1]);
+  const __m128d origin_z = _mm_set_sd(t.origin[2]);
+  const __m128d largest = _mm_set1_pd(kMaxCoordinate);
+  const __m128d sign = _mm_set1_pd(-0.0);
+  __m128d inside = _mm_cmpeq_pd(largest, largest);
+  auto keep = [&](int i, __m128d xy, __m128d z) {
+    inside = _mm_and_pd(inside, _mm_cmple_pd(_mm_andnot_pd(sign, xy), largest));
+    inside = _mm_and_pd(inside, _mm_cmple_pd(_mm_andnot_pd(sign, z), largest));
+    // Beyond float's range the conversion gives an infinity (the instruction's rule, not C++'s
+    // undefined conversion), and the caller does not use it.
+    _mm_storel_pi(reinterpret_cast<__m64*>(out[i]), _mm_cvtpd_ps(xy));
+    out[i][2] = _mm_cvtss_f32(_mm_cvtsd_ss(_mm_setzero_ps(), z));
+  };
+  if (plain_sum_) {
+    // origin + spacing * v, as WorldTransform::axis_aligned_position.
+    const __m128d spacing_xy = _mm_setr_pd(t.spacing[0], t.spacing[1]);
+    const __m128d spacing_z = _mm_set_sd(t.spacing[2]);
+    for (int i = 0; i < count; ++i) {
+      const __m128d v_xy = _mm_setr_pd(vertices[i].x, vertices[i].y);
+      const __m128d v_z = _mm_set_sd(vertices[i].z);
+      keep(i, _mm_add_pd(origin_xy, _mm_mul_pd(spacing_xy, v_xy)),
+           _mm_add_sd(origin_z, _mm_mul_sd(spacing_z, v_z)));
+    }
+    return _mm_movemask_pd(inside) == 3;
+  }
+  // position()'s sums in its order, lane by lane: world = origin, then += axes[a] * step for
+  // a = 0, 1, 2.
+  __m128d axis_xy[3], axis_z[3];
+  for (int a = 0; a < 3; ++a) {
+    axis_xy[a] = _mm_setr_pd(t.axes[a][0], t.axes[a][1]);
+    axis_z[a] = _mm_set_sd(t.axes[a][2]);
+  }
+  for (int i = 0; i < count; ++i) {
+    const double v[3] = {vertices[i].x, vertices[i].y, vertices[i].z};
+    __m128d xy = origin_xy, z = origin_z;
+    for (int a = 0; a < 3; ++a) {
+      const __m128d step = _mm_set1_pd(t.spacing[a] * v[a]);
+      xy = _mm_add_pd(xy, _mm_mul_pd(axis_xy[a], step));
+      z = _mm_add_sd(z, _mm_mul_sd(axis_z[a], step));
+    }
+    keep(i, xy, z);
+  }
+  return _mm_movemask_pd(inside) == 3;
+#else
+  for (int i = 0; i < count; ++i) {
+    const Vector3d world = transform_.position(vertices[i].x, vertices[i].y, vertices[i].z);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(std::fabs(world[axis]) <= kMaxCoordinate)) return false;
+      out[i][axis] = static_cast<float>(world[axis]);
+    }
+  }
+  return true;
+#endif
+}
+
+}  // namespace mvox
