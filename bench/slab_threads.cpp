@@ -111,6 +111,10 @@ int run(int argc, char** argv) {
   const double threshold = std::atof(argv[3]);
   const unsigned max_threads = argc > 4 ? static_cast<unsigned>(std::atoi(argv[4])) : 2;
   const int runs = argc > 5 ? std::atoi(argv[5]) : 5;
+  if (runs < 1 || max_threads < 1) {
+    std::fprintf(stderr, "%s: MAX_THREADS and RUNS must be at least 1\n", argv[0]);
+    return 2;
+  }
 
   VolumeInfo info;
   info.width = format.width;

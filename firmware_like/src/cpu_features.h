@@ -5,7 +5,7 @@
 //
 // The CPU is asked through CPUID directly: __builtin_cpu_supports would pull in libgcc's
 // __cpu_model and __cpu_indicator_init, which the core may not reference
-// (tests/core_symbols_test.sh). Other compilers and architectures keep the baseline loops.
+// (tests/core/core_symbols_test.sh). Other compilers and architectures keep the baseline loops.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define MVOX_HAVE_AVX2_PATH 1
 #include <cpuid.h>
@@ -23,8 +23,8 @@
 
 namespace mvox {
 
-// True when this CPU and its operating system run AVX2, BMI1, BMI2 and POPCNT instructions:
-// asked of the CPU itself (cpu_reports_avx2_bmi2), once per process.
+// True when this CPU and its operating system run AVX2, BMI1, BMI2 and POPCNT instructions, as
+// the CPU itself says at every call (cpu_has_avx2_bmi2 below keeps the answer).
 inline bool cpu_reports_avx2_bmi2() {
 #if MVOX_HAVE_AVX2_PATH
   unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
@@ -47,7 +47,7 @@ inline bool cpu_reports_avx2_bmi2() {
 // microseconds here, and Engine::init asks once per slab (64 slabs in a 256x256x1024 run). A
 // constant-initialised atomic, not a static initialised by a call, which would need the C++
 // runtime's guard functions (the core calls none: core_symbols_test.sh); threads that race to
-// the first call each ask the CPU and store the same answer.
+// the first call each ask the CPU and store the same answer. Once per process.
 inline bool cpu_has_avx2_bmi2() {
 #if MVOX_HAVE_AVX2_PATH
   static std::atomic<unsigned char> known{0};  // 0: not asked yet, 1: no, 2: yes

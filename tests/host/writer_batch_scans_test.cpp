@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "mvox/mesh.h"
@@ -33,14 +34,21 @@ std::vector<Polygon> noisy_polygons(std::mt19937& random, std::size_t count) {
     std::memcpy(static_cast<void*>(&polygon), bytes, sizeof bytes);
     const unsigned pick = random() % 16;
     polygon.vertex_count = static_cast<std::uint8_t>(pick < 12 ? 3 + pick % 5 : random() % 256);
-    const std::uint32_t scale = 1u << (random() % 32);
+    // Indices of 0 to 32 bits, so that the largest ones have the top bit set (an unsigned
+    // maximum, not a signed one).
+    const unsigned bits = random() % 33;
+    const std::uint32_t mask = bits == 32 ? 0xffffffffu : (1u << bits) - 1;
     for (int k = 0; k < polygon.vertex_count && k < kMaxPolygonVertices; ++k)
-      polygon.vertices[k] = static_cast<std::uint32_t>(random()) % scale;
+      polygon.vertices[k] = static_cast<std::uint32_t>(random()) & mask;
   }
   return polygons;
 }
 
 TEST(PolygonScan, AgreesWithTheSlotBySlotLoopWhateverTheUnusedSlotsHold) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (!__builtin_cpu_supports("avx2"))
+    GTEST_SKIP() << "no AVX2 on this CPU: scan_polygons is the slot-by-slot loop itself here";
+#endif
   std::mt19937 random(20261127);
   for (int batch = 0; batch < 2000; ++batch) {
     const std::vector<Polygon> polygons = noisy_polygons(random, random() % 40);
@@ -129,9 +137,10 @@ TEST(VertexPlacement, AxisAlignedBatchesPlaceBitForBitAsThePlainSumForAnySpacing
                                 placed.data()),
                 vertices.size());
       expect_placed_as_plain(transform, vertices, placed, vertices.size());
-      if (normals)
+      if (normals) {
         for (std::size_t i = 0; i < vertices.size(); ++i)
           for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(placed[i].normal[axis], given[i][axis]);
+      }
     }
   }
 }
@@ -152,6 +161,40 @@ TEST(VertexPlacement, AFastBatchNamesTheSameFirstVertexBeyondFloatsRangeAsThePla
                                 placed.data()),
                 outside);
       expect_placed_as_plain(transform, vertices, placed, outside);
+    }
+  }
+}
+
+// A coordinate that is not finite is refused on every fast path as by the plain loop: on the
+// identity path (a raw volume's default), on the axis-aligned one, and for corners on rotated
+// axes. (The engine never makes one; the check keeps the conversion to float defined.)
+TEST(VertexPlacement, ACoordinateThatIsNotFiniteIsNamedOnEveryPath) {
+  WorldTransform identity, spaced, rotated;
+  spaced.spacing = {0.5, 2.0, 3.0};
+  spaced.origin = {1.0, -2.0, 0.25};
+  rotated.axes = {{{0, -1, 0}, {-1, 0, 0}, {0, 0.1, 1}}};
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
+                       std::numeric_limits<float>::infinity(),
+                       -std::numeric_limits<float>::infinity()};
+  for (const WorldTransform* transform : {&identity, &spaced, &rotated}) {
+    transform->check("test");
+    const VertexPlacement placement(*transform, false);
+    const CornerPlacement corners(*transform);
+    for (float value : bad) {
+      for (int axis = 0; axis < 3; ++axis) {
+        std::vector<Vertex> vertices(6, Vertex{1.5f, 2.0f, 3.0f});
+        float* coordinate[3] = {&vertices[3].x, &vertices[3].y, &vertices[3].z};
+        *coordinate[axis] = value;
+        std::vector<WorldVertex> placed(vertices.size());
+        if (transform->is_axis_aligned()) {
+          EXPECT_EQ(placement.place(vertices.data(), nullptr, vertices.size(), placed.data()), 3u)
+              << value << " on axis " << axis;
+        }
+        float corner_positions[6][3];
+        EXPECT_FALSE(corners.place(vertices.data(), 6, corner_positions))
+            << value << " on axis " << axis;
+        EXPECT_TRUE(corners.place(vertices.data(), 3, corner_positions));
+      }
     }
   }
 }
@@ -226,6 +269,69 @@ TEST(StlFaceNormals, APairGivesEachTriangleTheNormalItGetsAlone) {
   }
 }
 #endif
+
+// A sink of put_stl_triangles' kind (binary_records.h) that keeps every byte.
+struct ByteSink {
+  std::vector<unsigned char> bytes;
+  std::size_t used = 0;
+  void* reserve(std::size_t size) {
+    bytes.resize(used + size);
+    return bytes.data() + used;
+  }
+  void commit(std::size_t size) {
+    used += size;
+    bytes.resize(used);
+  }
+};
+
+// Whole runs of STL triangles against one record at a time by the single formula: odd counts
+// (the last triangle of a run alone), and counts across the 1 MiB run's end, where the pairs
+// restart.
+TEST(StlTriangles, RunsOfAnyLengthAreTheRecordsOfTheSingleFormula) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> coordinate(-50.0f, 50.0f);
+  constexpr std::size_t kPerRun = BufferedWriter::kBufferBytes / kStlTriangleBytes;
+  for (std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{3},
+                            kPerRun - 1, kPerRun, kPerRun + 1, kPerRun + 2}) {
+    std::vector<Polygon> faces(count);
+    std::vector<FacePositions> positions(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      faces[i].vertex_count = 3;
+      for (int k = 0; k < 3; ++k)
+        for (int axis = 0; axis < 3; ++axis) positions[i].xyz[k][axis] = coordinate(random);
+      if (i % 5 == 4) std::memcpy(positions[i].xyz[2], positions[i].xyz[1], 3 * sizeof(float));
+    }
+    ByteSink sink;
+    put_stl_triangles(sink, faces.data(), positions.data(), count, "test");
+    ASSERT_EQ(sink.bytes.size(), count * kStlTriangleBytes);
+    for (std::size_t i = 0; i < count; ++i) {
+      unsigned char expected[kStlTriangleBytes];
+      unsigned char* out = expected;
+      float normal[3];
+      stl_face_normal(positions[i].xyz, normal);
+      for (float value : normal) out = store_le_float(out, value);
+      for (int k = 0; k < 3; ++k)
+        for (int axis = 0; axis < 3; ++axis) out = store_le_float(out, positions[i].xyz[k][axis]);
+      out[0] = out[1] = 0;
+      ASSERT_EQ(std::memcmp(sink.bytes.data() + i * kStlTriangleBytes, expected, sizeof expected),
+                0)
+          << "triangle " << i << " of " << count;
+    }
+  }
+  // A face that is not a triangle, in the middle of a run: refused, naming what it has.
+  std::vector<Polygon> faces(5);
+  std::vector<FacePositions> positions(5);
+  for (Polygon& face : faces) face.vertex_count = 3;
+  faces[2].vertex_count = 4;
+  ByteSink sink;
+  try {
+    put_stl_triangles(sink, faces.data(), positions.data(), faces.size(), "out.stl");
+    FAIL() << "a 4-gon was written as an STL triangle";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("an STL face with 4 vertices"), std::string::npos)
+        << error.what();
+  }
+}
 
 }  // namespace
 }  // namespace mvox

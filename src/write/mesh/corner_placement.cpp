@@ -27,8 +27,8 @@ bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) 
   auto keep = [&](int i, __m128d xy, __m128d z) {
     inside = _mm_and_pd(inside, _mm_cmple_pd(_mm_andnot_pd(sign, xy), largest));
     inside = _mm_and_pd(inside, _mm_cmple_pd(_mm_andnot_pd(sign, z), largest));
-    // Beyond float's range the conversion gives an infinity (the instruction's rule, not C++'s
-    // undefined conversion), and the caller does not use it.
+    // Beyond float's range the conversion follows the instruction's rule (an infinity or the
+    // largest float, by rounding), not C++'s undefined one, and the caller does not use it.
     _mm_storel_pi(reinterpret_cast<__m64*>(out[i]), _mm_cvtpd_ps(xy));
     out[i][2] = _mm_cvtss_f32(_mm_cvtsd_ss(_mm_setzero_ps(), z));
   };

@@ -83,8 +83,9 @@ bool place_axis_aligned(const Vertex* vertices, std::size_t count, const WorldTr
         _mm_add_pd(origin_z, _mm_mul_pd(spacing_z, _mm_cvtps_pd(_mm_movehl_ps(vertex, vertex))));
     inside = _mm_and_pd(inside, _mm_cmple_pd(_mm_andnot_pd(sign, world_xy), largest));
     inside = _mm_and_pd(inside, _mm_cmple_pd(_mm_andnot_pd(sign, world_z), largest));
-    // A double beyond float's range converts to an infinity here (the instruction's rule, not
-    // C++'s undefined conversion), and the batch is then placed again the careful way.
+    // A double beyond float's range converts by the instruction's rule (an infinity or the
+    // largest float, by rounding), not C++'s undefined one, and the batch is then placed again
+    // the careful way.
     _mm_storeu_ps(out[i].position, _mm_movelh_ps(_mm_cvtpd_ps(world_xy), _mm_cvtpd_ps(world_z)));
   }
   return _mm_movemask_pd(inside) == 3;

@@ -27,7 +27,7 @@ class VertexPlacement {
   // Places `count` vertices into `out`, with `normals` (one per vertex, in the spaced voxel
   // frame, as VertexNormals computes them) when with_normals. Returns the index of the first
   // vertex whose position leaves float's range (converting it would be undefined behaviour),
-  // whose place and those after it are left unset, or `count` when every one fits.
+  // whose place and those after it are unspecified, or `count` when every one fits.
   std::size_t place(const Vertex* vertices, const glm::vec3* normals, std::size_t count,
                     WorldVertex* out) const;
 
