@@ -73,6 +73,8 @@ struct Worker {
   WorkspaceBuffer workspace;
   std::optional<NormalWindow> normals;
   std::unique_ptr<PictureLayer> layer;  // with a picture: this worker's slabs drawn
+  // The mesh writer's, when it has one: formats this worker's faces ahead of its turn.
+  std::unique_ptr<FaceFormatter> formatter;
   std::thread thread;
   double read_seconds = 0;   // inside its own slab readers
   double write_seconds = 0;  // inside the mesh writer, writing its output straight
@@ -164,7 +166,7 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
       worker.normals && mesh_normals ? &worker.normals->normals() : nullptr;
   SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
   SlabRecorder recorder(turns.handover(index), placement, normals,
-                        options.polygon_geometry && placement);
+                        options.polygon_geometry && placement, worker.formatter.get());
   PolygonSink* drawing = worker.layer ? &worker.layer->sink() : nullptr;
   struct CountWrites {
     Worker& worker;
@@ -247,7 +249,7 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                                               options.needs_window())} *
                  slice) +
       (options.needs_window() ? kSliceWindowDepth * slice : 0) +
-      kChunksPerWorker * SlabChunk::reserved_bytes(engine) +
+      kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon) +
       (options.normals ? std::uint64_t{engine.vertices_per_batch} * sizeof(glm::vec3) : 0);
   return per_worker * options.threads;
 }
@@ -281,14 +283,20 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
     for (auto& worker : workers) worker->wake();
     if (turns) turns->wake();
   });
-  turns = std::make_unique<SlabWriteTurns>(mesh, cuts.count(), threads, engine,
-                                           failure.cancellation(), [&failure] { failure.cancel(); });
+  // Formatted ahead only with slabs recorded: a polygon batch and its geometry in one chunk.
+  std::unique_ptr<FaceFormatter> probe =
+      mesh && engine.polygon_geometry ? mesh->face_formatter() : nullptr;
+  const std::size_t formatted_bytes = probe ? probe->most_bytes_per_polygon() : 0;
+  turns = std::make_unique<SlabWriteTurns>(
+      mesh, cuts.count(), threads, engine, failure.cancellation(), [&failure] { failure.cancel(); },
+      formatted_bytes);
   for (std::uint32_t w = 0; w < threads; ++w) {
     // Workers that read their own slices need no slice buffers from the fan-out.
     const std::uint32_t buffers = ranges ? 0 : slab_buffer_slices(cuts.slab_slices, window);
     workers.push_back(std::make_unique<Worker>(failure.cancellation(), slice_bytes, buffers,
                                                result.workspace_bytes));
     Worker& worker = *workers.back();
+    if (probe) worker.formatter = w == 0 ? std::move(probe) : mesh->face_formatter();
     if (window) worker.normals.emplace(info, options.spacing, input_label);
     if (options.picture)
       worker.layer = options.picture->new_layer(worker.normals ? &worker.normals->normals()

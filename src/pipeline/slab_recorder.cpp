@@ -12,6 +12,8 @@ void SlabChunk::clear() {
   normals.clear();
   polygons.clear();
   geometry.clear();
+  formatted.clear();
+  formatted_runs.clear();
   first = false;
   shared_vertices = 0;
   last = false;
@@ -30,34 +32,56 @@ std::size_t capacity_for(std::uint32_t batch) {
 // chunk handed on at kChunkBytes holds fewer calls than that many bytes of its smallest item.
 std::size_t calls_capacity() { return SlabRecorder::kChunkBytes / sizeof(Vertex) + 3; }
 
+// Room for a chunk of formatted records and one polygon batch's more.
+std::size_t formatted_capacity(const EngineOptions& engine, std::size_t bytes_per_polygon) {
+  return SlabRecorder::kChunkBytes + engine.polygons_per_batch * bytes_per_polygon;
+}
+
+// A formatted_faces call takes the place of at least one polygon.
+std::size_t formatted_runs_capacity(const EngineOptions& engine) {
+  return capacity_for<Polygon>(engine.polygons_per_batch);
+}
+
 }  // namespace
 
-void SlabChunk::reserve(const EngineOptions& engine) {
+void SlabChunk::reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon) {
   calls.reserve(calls_capacity());
   placed.reserve(capacity_for<WorldVertex>(engine.vertices_per_batch));
   polygons.reserve(capacity_for<Polygon>(engine.polygons_per_batch));
   if (engine.polygon_geometry)
     geometry.reserve(capacity_for<PolygonGeometry>(engine.polygons_per_batch));
+  if (formatted_bytes_per_polygon > 0) {
+    formatted.reserve_capacity(formatted_capacity(engine, formatted_bytes_per_polygon));
+    formatted_runs.reserve(formatted_runs_capacity(engine));
+  }
 }
 
-std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine) {
+std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine,
+                                      std::size_t formatted_bytes_per_polygon) {
   std::size_t bytes = calls_capacity() * sizeof(SlabChunk::Call) +
                       capacity_for<WorldVertex>(engine.vertices_per_batch) * sizeof(WorldVertex) +
                       capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
   if (engine.polygon_geometry)
     bytes += capacity_for<PolygonGeometry>(engine.polygons_per_batch) * sizeof(PolygonGeometry);
+  if (formatted_bytes_per_polygon > 0)
+    bytes += formatted_capacity(engine, formatted_bytes_per_polygon) +
+             formatted_runs_capacity(engine) * sizeof(FormattedRun);
   return bytes;
 }
 
 SlabRecorder::SlabRecorder(Handover& handover, const VertexPlacement* placement,
-                           const VertexNormals* normals, bool geometry_follows)
+                           const VertexNormals* normals, bool geometry_follows,
+                           FaceFormatter* formatter)
     : handover_(handover),
       placement_(placement),
       normals_(normals),
-      geometry_follows_(geometry_follows) {}
+      geometry_follows_(geometry_follows),
+      formatter_(placement ? formatter : nullptr) {}
 
 bool SlabRecorder::start(std::uint64_t shared_vertices) {
   own_only_ = false;
+  formatting_ = formatter_ != nullptr;
+  if (formatting_) formatter_->start_slab(shared_vertices);
   chunk_ = handover_.take();
   if (!chunk_) return false;
   chunk_->first = true;
@@ -105,6 +129,17 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
               ? writer->placed_vertices(placed_batch_.data(), count)
               : writer->vertices(vertices, normals, count);
       return written(status, seconds_since(start));
+    }
+    if (formatting_) {
+      // The writer keeps only the count; the placement checks that every vertex is in range.
+      if (placed_batch_.size() < count) placed_batch_.resize(count);
+      if (placement_->place(vertices, normals, count, placed_batch_.data()) == count &&
+          formatter_->consume_placed_vertices(placed_batch_.data(), count) == Status::ok) {
+        chunk_->calls.push_back(
+            {SlabChunk::Kind::vertex_count, own_only_, static_cast<std::uint32_t>(count)});
+        return after_call() ? Status::ok : Status::sink_refused;
+      }
+      formatting_ = false;
     }
     const std::size_t first = chunk_->placed_count;
     // Room was reserved for a full chunk and one batch more (SlabChunk::reserve); grown only
@@ -163,11 +198,38 @@ Status SlabRecorder::consume_polygon_geometry(const PolygonGeometry* polygons, s
       const auto start = Clock::now();
       return written(writer->geometry(polygons, count), seconds_since(start));
     }
-    record(SlabChunk::Kind::geometry, chunk_->geometry, polygons, count);
+    if (!formatting_ || !format_recorded_batch(polygons, count))
+      record(SlabChunk::Kind::geometry, chunk_->geometry, polygons, count);
     return after_call() ? Status::ok : Status::sink_refused;
   } catch (...) {
     return Status::sink_refused;
   }
+}
+
+bool SlabRecorder::format_recorded_batch(const PolygonGeometry* geometry, std::size_t count) {
+  // The polygons came just before, in the same chunk (geometry_follows_).
+  SlabChunk& chunk = *chunk_;
+  if (chunk.calls.empty() || chunk.calls.back().kind != SlabChunk::Kind::polygons ||
+      chunk.calls.back().count != count || chunk.polygons.size() < count) {
+    formatting_ = false;
+    return false;
+  }
+  const std::size_t polygons_kept = chunk.polygons.size() - count;
+  const std::size_t bytes_before = chunk.formatted.size();
+  const std::uint64_t faces_before = formatter_->faces_written();
+  formatter_->format_into(&chunk.formatted);
+  if (formatter_->consume_polygons(chunk.polygons.data() + polygons_kept, count) != Status::ok ||
+      formatter_->consume_polygon_geometry(geometry, count) != Status::ok) {
+    chunk.formatted.truncate(bytes_before);
+    formatting_ = false;
+    return false;
+  }
+  chunk.polygons.resize(polygons_kept);
+  chunk.calls.back().kind = SlabChunk::Kind::formatted_faces;
+  chunk.formatted_runs.push_back(
+      {static_cast<std::uint32_t>(formatter_->faces_written() - faces_before),
+       static_cast<std::uint32_t>(chunk.formatted.size() - bytes_before)});
+  return true;
 }
 
 void SlabJoin::relocate(Polygon* polygons, std::uint32_t count, bool own_only) const {
@@ -208,6 +270,7 @@ Status SlabReplay::replay(SlabChunk& chunk) {
   if (!mesh_ && !chunk.calls.empty())
     return Status::invalid_argument;  // recorded output with nowhere to go: a caller's mistake
   std::size_t placed_at = 0, vertex_at = 0, polygon_at = 0, geometry_at = 0;
+  std::size_t formatted_at = 0, run_at = 0;
   for (const SlabChunk::Call& call : chunk.calls) {
     Status status = Status::ok;
     switch (call.kind) {
@@ -238,6 +301,14 @@ Status SlabReplay::replay(SlabChunk& chunk) {
         status = mesh_->consume_polygon_geometry(chunk.geometry.data() + geometry_at, call.count);
         geometry_at += call.count;
         break;
+      case SlabChunk::Kind::vertex_count: status = mesh_->consume_vertex_count(call.count); break;
+      case SlabChunk::Kind::formatted_faces: {
+        const SlabChunk::FormattedRun& run = chunk.formatted_runs[run_at++];
+        status = mesh_->consume_formatted_faces(chunk.formatted.data() + formatted_at, run.bytes,
+                                                call.count, run.faces);
+        formatted_at += run.bytes;
+        break;
+      }
     }
     if (status != Status::ok) return status;
   }

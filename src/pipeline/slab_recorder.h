@@ -15,6 +15,7 @@
 #include "mvox/engine.h"
 #include "mvox/polygon_sink.h"
 #include "mvox/vertex_normals.h"
+#include "write/mesh/face_formatter.h"
 #include "write/mesh/vertex_placement.h"
 
 namespace mvox {
@@ -33,7 +34,17 @@ struct SlabChunk {
   // placed_vertices: a vertex batch the worker placed (VertexPlacement); vertices: one left
   // for the writer to place, because a vertex leaves float's range there (the writer then
   // refuses it, naming the vertex as one thread would).
-  enum class Kind : std::uint8_t { placed_vertices, vertices, polygons, geometry };
+  // vertex_count: a vertex batch of a format that writes no vertex records (STL), placed
+  // within float's range, of which only the count is kept. formatted_faces: a polygon batch
+  // and its geometry, formatted by the slab's FaceFormatter (face_formatter.h).
+  enum class Kind : std::uint8_t {
+    placed_vertices,
+    vertices,
+    polygons,
+    geometry,
+    vertex_count,
+    formatted_faces
+  };
   struct Call {
     Kind kind;
     // Polygons emitted after the slab's first layer: none refers to a shared vertex, so that
@@ -50,7 +61,15 @@ struct SlabChunk {
   std::vector<glm::vec3> normals;  // theirs, when the slab computes normals
   std::vector<Polygon> polygons;
   std::vector<PolygonGeometry> geometry;
-  bool first = false;  // the slab's first chunk: `shared_vertices` is valid
+  // The records of the formatted_faces calls, one after the other, and each call's face count
+  // and record bytes.
+  FormattedFaces formatted;
+  struct FormattedRun {
+    std::uint32_t faces;
+    std::uint32_t bytes;
+  };
+  std::vector<FormattedRun> formatted_runs;
+  bool first = false;                 // the slab's first chunk: `shared_vertices` is valid
   std::uint64_t shared_vertices = 0;  // EngineCounters::shared_vertices after begin_slab
   bool last = false;  // the slab's last chunk: `summary` is valid
   SlabSummary summary;
@@ -58,17 +77,20 @@ struct SlabChunk {
   std::size_t bytes() const {
     return placed_count * sizeof(WorldVertex) + vertices.size() * sizeof(Vertex) +
            normals.size() * sizeof(glm::vec3) + polygons.size() * sizeof(Polygon) +
-           geometry.size() * sizeof(PolygonGeometry);
+           geometry.size() * sizeof(PolygonGeometry) + formatted.size();
   }
   // Empties it for reuse; the vectors keep their capacity, so memory stays what it was.
   void clear();
   // Gives each array room for everything a chunk can hold (SlabRecorder::kChunkBytes and one
   // more batch of the engine's), so that filling it never reallocates: the memory a chunk takes
   // is then the pages it has touched, and no freed copy is left behind in the allocator.
-  void reserve(const EngineOptions& engine);
+  // `formatted_bytes_per_polygon`: FaceFormatter::most_bytes_per_polygon() when the slabs'
+  // faces are formatted by their workers, else 0.
+  void reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon = 0);
   // The bytes reserve() gives: the most a chunk's arrays take once a run has touched them all
   // (one chunk may fill its vertices, the next its polygons).
-  static std::size_t reserved_bytes(const EngineOptions& engine);
+  static std::size_t reserved_bytes(const EngineOptions& engine,
+                                    std::size_t formatted_bytes_per_polygon = 0);
 };
 
 class SlabReplay;
@@ -99,6 +121,7 @@ class SlabRecorder final : public PolygonSink {
     // Between two slices: a chance to write what was recorded if the turn has come, since the
     // engine may go a while without a call.
     virtual void poll() {}
+
    protected:
     ~Handover() = default;
   };
@@ -107,8 +130,13 @@ class SlabRecorder final : public PolygonSink {
   // (EngineOptions::polygon_geometry), and the pair is kept in one chunk. With `placement`
   // null, nothing the engine emits is kept, only how each slab starts and ends (a run that
   // draws a picture and writes no mesh).
-  SlabRecorder(Handover& handover, const VertexPlacement* placement,
-               const VertexNormals* normals, bool geometry_follows);
+  // `formatter` (borrowed; may be null): the writer's FaceFormatter (MeshWriter::face_formatter),
+  // for a format whose face records hold no indices. The slab's faces are then recorded
+  // formatted, and its vertex batches as counts only. Should the formatter refuse a batch, the
+  // rest of the slab is recorded as the engine made it, so that the writer refuses it as with
+  // one thread, in the same words.
+  SlabRecorder(Handover& handover, const VertexPlacement* placement, const VertexNormals* normals,
+               bool geometry_follows, FaceFormatter* formatter = nullptr);
 
   // Starts recording a slab, whose engine numbered `shared_vertices` vertices it does not emit,
   // into a fresh chunk. False when the run is cancelled.
@@ -135,6 +163,10 @@ class SlabRecorder final : public PolygonSink {
   Status written(Status status, double seconds);
   // Hands the chunk on once it is full; false when the run is cancelled.
   bool after_call();
+  // Formats the polygon batch just recorded, with its `geometry`, into the chunk in its place.
+  // False, with nothing of it kept and formatting stopped for the slab, if the formatter
+  // refuses it.
+  bool format_recorded_batch(const PolygonGeometry* geometry, std::size_t count);
   // Appends the call and its batch to the current chunk.
   template <class Item>
   void record(SlabChunk::Kind kind, std::vector<Item>& items, const Item* batch,
@@ -147,6 +179,8 @@ class SlabRecorder final : public PolygonSink {
   // Like placed_batch_, only ever grown, so that a batch is not zeroed before it is filled.
   std::vector<glm::vec3> batch_normals_;
   bool geometry_follows_;
+  FaceFormatter* formatter_;
+  bool formatting_ = false;  // the current slab's faces are recorded formatted
   bool own_only_ = false;
   SlabChunk* chunk_ = nullptr;
   std::vector<WorldVertex> placed_batch_;  // one batch placed, when written straight

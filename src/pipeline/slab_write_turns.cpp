@@ -36,7 +36,8 @@ class SlabWriteTurns::WorkerHandover final : public SlabRecorder::Handover {
 
 SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned workers,
                                const EngineOptions& engine, const Cancellation& cancellation,
-                               std::function<void()> cancel)
+                               std::function<void()> cancel,
+                               std::size_t formatted_bytes_per_polygon)
     : replay_(mesh),
       slabs_(slabs),
       workers_(workers),
@@ -47,7 +48,7 @@ SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned w
     Pool& pool = pools_[w];
     pool.storage.resize(kChunksPerWorker);
     for (SlabChunk& chunk : pool.storage) {
-      chunk.reserve(engine);
+      chunk.reserve(engine, formatted_bytes_per_polygon);
       pool.free.push_back(&chunk);
     }
     handovers_.push_back(std::make_unique<WorkerHandover>(*this, w));

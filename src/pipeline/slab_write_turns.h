@@ -38,9 +38,10 @@ class SlabWriteTurns {
   // `slabs` slabs, slab k extracted by worker k mod `workers`, written into `mesh` (may be null:
   // the slabs record nothing, and only their counters are summed). `cancel` stops the run when
   // the writer refuses; waits end when `cancellation` is set and wake() called.
+  // `formatted_bytes_per_polygon`: for SlabChunk::reserve, when workers format their faces.
   SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned workers,
                  const EngineOptions& engine, const Cancellation& cancellation,
-                 std::function<void()> cancel);
+                 std::function<void()> cancel, std::size_t formatted_bytes_per_polygon = 0);
   ~SlabWriteTurns();
 
   // Worker w's handover for its recorder. Call start_slab() before each slab it extracts, and

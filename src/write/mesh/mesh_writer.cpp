@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "write/mesh/face_formatter.h"
 #include "write/mesh/polygon_scan.h"
 #include "write/mesh/polygon_triangulation.h"
 
@@ -108,6 +109,43 @@ Status MeshWriter::consume_placed_vertices(const WorldVertex* vertices, std::siz
     write_vertices(vertices, vertex_count);
     vertex_count_ += vertex_count;
   });
+}
+
+std::unique_ptr<FaceFormatter> MeshWriter::face_formatter() const { return nullptr; }
+
+Status MeshWriter::consume_vertex_count(std::size_t vertex_count) {
+  return guarded("vertices", [&] {
+    if (writes_vertex_records())
+      throw Error(subject(), "internal error: vertices counted for a format that writes them");
+    check_vertex_room(vertex_count);
+    vertex_count_ += vertex_count;
+  });
+}
+
+Status MeshWriter::consume_formatted_faces(const unsigned char* records, std::size_t bytes,
+                                           std::size_t polygon_count, std::size_t face_count) {
+  return guarded("formatted faces", [&] {
+    if (pending_batch_)
+      throw Error(subject(),
+                  "internal error: formatted faces arrived before a polygon batch's geometry");
+    write_formatted_faces(records, bytes, face_count);
+    polygon_count_ += polygon_count;
+    face_count_ += face_count;
+  });
+}
+
+void MeshWriter::write_formatted_faces(const unsigned char*, std::size_t, std::size_t) {
+  throw Error(subject(), "internal error: formatted faces for a format that formats its own");
+}
+
+void MeshWriter::restart(std::uint64_t first_vertex) {
+  vertex_count_ = first_vertex;
+  polygon_count_ = 0;
+  face_count_ = 0;
+  face_fill_ = 0;
+  pending_batch_ = false;
+  error_.reset();
+  finished_ = false;
 }
 
 void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count,

@@ -3,6 +3,7 @@
 // world, split into triangles when asked, wound outward, and errors remembered for finish().
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,8 @@
 #include "write/output_file.h"
 
 namespace mvox {
+
+class FaceFormatter;
 
 struct MeshWriterOptions {
   // Where the mesh lands (world_transform.h). Checked by the writer's constructor.
@@ -106,6 +109,20 @@ class MeshWriter : public PolygonSink {
   // writes them.
   const VertexPlacement& placement() const { return placement_; }
 
+  // For a format whose face records hold no vertex indices (STL): a formatter that makes this
+  // writer's face records in memory, for a slab worker ahead of its turn (face_formatter.h).
+  // Null for the others.
+  virtual std::unique_ptr<FaceFormatter> face_formatter() const;
+  // False for a format that writes no vertex records (STL: its triangles hold their positions).
+  virtual bool writes_vertex_records() const { return true; }
+  // For a writer that writes no vertex records: `vertex_count`
+  // vertices that the caller placed, all within float's range, counted and not written.
+  Status consume_vertex_count(std::size_t vertex_count);
+  // For a writer that has a face_formatter(): the records its formatter made for
+  // `polygon_count` polygons, `face_count` faces, `bytes` long, appended as they are.
+  Status consume_formatted_faces(const unsigned char* records, std::size_t bytes,
+                                 std::size_t polygon_count, std::size_t face_count);
+
   // Completes and commits the file. Throws the remembered error of a refused batch, or any
   // error of its own; throws if called twice.
   void finish();
@@ -153,6 +170,12 @@ class MeshWriter : public PolygonSink {
                            std::size_t face_count, std::uint32_t index_offset) = 0;
   // Writes what only the end can tell (counts), and seals the file (OutputFile::seal).
   virtual void complete_file() = 0;
+  // The records of consume_formatted_faces(); only writers with a face_formatter() get them.
+  virtual void write_formatted_faces(const unsigned char* records, std::size_t bytes,
+                                     std::size_t face_count);
+  // Starts over, counting vertices from `first_vertex`, as a writer of a part that starts there
+  // (a FaceFormatter's next slab). Forgets the counts, a waiting polygon batch and an error.
+  void restart(std::uint64_t first_vertex);
 
  private:
   template <class Body>

@@ -18,7 +18,31 @@ const MeshWriterOptions& without_vertex_normals(const MeshWriterOptions& options
   return options;
 }
 
+// StlWriter's triangles, formatted into memory by a slab worker (face_formatter.h).
+class StlFaceFormatter final : public FaceFormatter {
+ public:
+  explicit StlFaceFormatter(const MeshWriterOptions& options)
+      : FaceFormatter(options, Faces::as_triangles, Positions::needed, "STL faces") {}
+  bool writes_vertex_records() const override { return false; }
+  std::size_t most_bytes_per_polygon() const override { return StlWriter::kMostBytesPerPolygon; }
+
+ private:
+  void write_vertices(const WorldVertex*, std::size_t) override {}
+  void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
+                   std::uint32_t) override {
+    if (!positions) throw Error(subject(), "internal error: STL faces without positions");
+    put_stl_triangles(records(), faces, positions, face_count, subject());
+  }
+};
+
 }  // namespace
+
+std::unique_ptr<FaceFormatter> StlWriter::face_formatter() const {
+  MeshWriterOptions options = this->options();
+  options.part = MeshWriterOptions::Part{};  // no head; FaceFormatter::start_slab numbers it
+  options.sync = false;
+  return std::make_unique<StlFaceFormatter>(options);
+}
 
 std::string StlWriter::head(const MeshWriterOptions& options, std::uint64_t triangle_count) {
   if (triangle_count > std::numeric_limits<std::uint32_t>::max())
@@ -60,13 +84,31 @@ void StlWriter::write_vertices(const WorldVertex*, std::size_t) {
 void StlWriter::write_faces(const Polygon* faces, const FacePositions* positions,
                             std::size_t face_count, std::uint32_t /*index_offset: no indices*/) {
   if (!positions) throw Error(subject(), "internal error: STL faces without positions");
-  if (face_count > std::numeric_limits<std::uint32_t>::max() - faces_written())
-    throw Error(subject(), "more than 4,294,967,295 triangles, which STL cannot count");
+  check_triangle_room(face_count);
   if (spool_) {
     put_stl_triangles(*spool_, faces, positions, face_count, subject());
   } else {
     put_stl_triangles(out_, faces, positions, face_count, subject());
   }
+}
+
+void StlWriter::write_formatted_faces(const unsigned char* records, std::size_t bytes,
+                                      std::size_t face_count) {
+  if (bytes != face_count * kStlTriangleBytes)
+    throw Error(subject(), "internal error: formatted STL records of the wrong size");
+  check_triangle_room(face_count);
+  if (spool_) {
+    spool_->write(records, bytes);
+  } else {
+    out_.write(records, bytes);
+  }
+}
+
+static_assert(StlWriter::kMostBytesPerPolygon == (kMaxPolygonVertices - 2) * kStlTriangleBytes);
+
+void StlWriter::check_triangle_room(std::size_t face_count) const {
+  if (face_count > std::numeric_limits<std::uint32_t>::max() - faces_written())
+    throw Error(subject(), "more than 4,294,967,295 triangles, which STL cannot count");
 }
 
 void StlWriter::complete_file() {

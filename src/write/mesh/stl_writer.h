@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "write/mesh/face_formatter.h"
 #include "write/mesh/mesh_writer.h"
 #include "write/output_file.h"
 #include "write/scratch_file.h"
@@ -27,12 +28,16 @@ namespace mvox {
 class StlWriter final : public MeshWriter {
  public:
   static constexpr std::size_t kHeaderBytes = 80;
+  // A polygon of kMaxPolygonVertices corners is split into that many less two triangles.
+  static constexpr std::size_t kMostBytesPerPolygon = (kMaxPolygonVertices - 2) * 50;
 
   // Creates the temporary file. Throws mvox::Error.
   explicit StlWriter(const std::string& path, const MeshWriterOptions& options = {});
 
   const std::string& subject() const override { return out_.subject(); }
   OutputFile* output_file() override { return &out_; }
+  bool writes_vertex_records() const override { return false; }
+  std::unique_ptr<FaceFormatter> face_formatter() const override;
 
   // The 80 header bytes for these options.
   static std::string header(const MeshWriterOptions& options);
@@ -45,6 +50,10 @@ class StlWriter final : public MeshWriter {
   void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
                    std::uint32_t index_offset) override;
   void complete_file() override;
+  void write_formatted_faces(const unsigned char* records, std::size_t bytes,
+                             std::size_t face_count) override;
+  // Throws unless `face_count` more triangles stay within STL's 32-bit count.
+  void check_triangle_room(std::size_t face_count) const;
 
   OutputFile out_;
   std::optional<ScratchFile> spool_;  // only when out_ cannot be overwritten

@@ -1,0 +1,10 @@
+#include "write/mesh/face_formatter.h"
+
+namespace mvox {
+
+FormattedFaces& FaceFormatter::records() {
+  if (!records_) throw Error(subject(), "internal error: faces formatted with nowhere to go");
+  return *records_;
+}
+
+}  // namespace mvox

@@ -1,0 +1,73 @@
+#pragma once
+// Faces formatted ahead of the file, by the thread that extracted them.
+//
+// With slab threads (pipeline/slab_extraction.h) only the worker whose turn it is writes into the
+// mesh file; a worker ahead of it records its engine's output and formats it when its turn comes.
+// For a format whose face records hold no vertex indices (STL: three positions and a normal a
+// triangle), a record does not depend on where the slab's vertices land in the whole mesh, so the
+// worker ahead can format its faces at once, in parallel with the writing one. The writer then
+// only appends the bytes (MeshWriter::consume_formatted_faces). A FaceFormatter is that worker's
+// copy of the writer's formatting: the same MeshWriter checks, placement, triangulation and
+// records, into memory.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "write/mesh/mesh_writer.h"
+
+namespace mvox {
+
+// Formatted records, appended; a Sink for binary_records.h. Its storage only grows, and keeps
+// its size when emptied, so that appending never zeroes bytes a second time (as resizing a
+// vector would each time it is refilled).
+class FormattedFaces {
+ public:
+  void* reserve(std::size_t bytes) {
+    if (storage_.size() < used_ + bytes) storage_.resize(used_ + bytes);
+    return storage_.data() + used_;
+  }
+  void commit(std::size_t bytes) { used_ += bytes; }
+  // Forgets everything from byte `size` on.
+  void truncate(std::size_t size) { used_ = size < used_ ? size : used_; }
+  void clear() { used_ = 0; }
+  void reserve_capacity(std::size_t bytes) { storage_.reserve(bytes); }
+
+  const unsigned char* data() const { return storage_.data(); }
+  std::size_t size() const { return used_; }
+
+ private:
+  std::vector<unsigned char> storage_;
+  std::size_t used_ = 0;
+};
+
+class FaceFormatter : public MeshWriter {
+ public:
+  // Starts a slab whose engine numbered `shared_vertices` vertices it does not emit
+  // (Engine::begin_slab): the vertex count starts there, so that the slab's local indices pass
+  // MeshWriter's checks, and a refusal of an earlier slab is forgotten.
+  void start_slab(std::uint64_t shared_vertices) { restart(shared_vertices); }
+  // Where the next records go; borrowed until the next call.
+  void format_into(FormattedFaces* records) { records_ = records; }
+  // The most bytes of records one polygon can make (its triangles, when it is split).
+  virtual std::size_t most_bytes_per_polygon() const = 0;
+
+  const std::string& subject() const override { return subject_; }
+  OutputFile* output_file() override { return nullptr; }
+
+ protected:
+  FaceFormatter(const MeshWriterOptions& options, Faces faces, Positions positions,
+                std::string subject)
+      : MeshWriter(options, faces, positions), subject_(std::move(subject)) {}
+  // Throws (an internal error) before format_into() has given a target.
+  FormattedFaces& records();
+
+ private:
+  void complete_file() override {}
+
+  std::string subject_;
+  FormattedFaces* records_ = nullptr;
+};
+
+}  // namespace mvox
