@@ -2,8 +2,8 @@
 # Slab-parallel scaling on this machine (docs/scaling.md): the paper's engine resampled to
 # 256x256xDEPTH (default 1024), extracted
 #   - in memory, by one engine and by 1..MAX_THREADS slab workers (mvox_bench_threads), and
-#   - end to end, raw file to binary PLY, by `mvox extract --threads N` (hyperfine, one run of
-#     each command a round, medians of the rounds and of their ratios);
+#   - end to end, raw file to binary PLY and to STL, by `mvox extract --threads N` (hyperfine,
+#     one run of each command a round, medians of the rounds and of their ratios);
 # a PNG stack of the same size (mvox phantom blobs), where each worker decodes its own slabs;
 # the picture (--image) drawn by 1..MAX_THREADS; mvox-mpi on 1..MAX_RANKS (default 4) ranks,
 # oversubscribed, when it is built; and the peak memory of each end-to-end run on the volume and on one 4x as deep, to show it
@@ -96,6 +96,18 @@ end_to_end() {
 echo "## End to end: raw file to binary PLY"
 echo
 end_to_end raw "$scratch/volume.raw --raw 256x256x$depth:u8 -t 100"
+
+echo "## End to end: raw file to binary STL (each worker formats its slabs' triangles)"
+echo
+commands=()
+names=()
+outputs=()
+for threads in $(seq 1 "$max_threads"); do
+  commands+=("$mvox extract $scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q -o $scratch/mesh-$threads.stl --threads $threads")
+  names+=("--threads $threads")
+  outputs+=("$scratch/mesh-$threads.stl")
+done
+compare_runs stl
 
 echo "## End to end: PNG stack to binary PLY (each worker decodes its own slabs)"
 echo
