@@ -21,7 +21,6 @@
 #include "pipeline/termination.h"
 #include "postprocess/edge_smoothing.h"
 #include "write/buffered_writer.h"
-#include "write/mesh/stl_writer.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
 #include "write/slice_image_writer.h"
@@ -163,8 +162,8 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     slabs.normals = job.normals;
     slabs.smooth_picture = picture && job.picture.smooth;
     if (own_range_reader(source)) slabs.reader_bytes = source.working_bytes();
-    if (!job.output.empty() && job.format == MeshFormat::stl)
-      slabs.formatted_bytes_per_polygon = StlWriter::kMostBytesPerPolygon;
+    if (!job.output.empty())
+      slabs.formatted_bytes_per_polygon = formatted_bytes_per_polygon(job.format);
     plan.add(std::to_string(threads) + " slab workers (workspace, slices, window, recorded output)",
              slab_pipeline_bytes(info, engine, slabs));
     if (picture)  // and the picture's own slab numbers, once the layers are composited

@@ -26,6 +26,7 @@
 #include "read/range_readable.h"
 #include "read/read_buffer.h"
 #include "read/read_cancellation.h"
+#include "write/mesh/mesh_format.h"
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
@@ -250,6 +251,8 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                  slice) +
       (options.needs_window() ? kSliceWindowDepth * slice : 0) +
       kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon) +
+      // A worker's FaceFormatter is a MeshWriter with the batches of one.
+      (options.formatted_bytes_per_polygon > 0 ? kMeshWriterBatchBytes : 0) +
       (options.normals ? std::uint64_t{engine.vertices_per_batch} * sizeof(glm::vec3) : 0);
   return per_worker * options.threads;
 }

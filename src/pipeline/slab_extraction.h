@@ -50,9 +50,9 @@ struct SlabOptions {
   // For slab_pipeline_bytes(): the working bytes of each worker's own slab reader, when the
   // input is read that way (own_range_reader); 0 when one thread reads and fans slices out.
   std::uint64_t reader_bytes = 0;
-  // For slab_pipeline_bytes(): FaceFormatter::most_bytes_per_polygon() when the mesh writer has
-  // a face formatter (MeshWriter::face_formatter: STL), whose records the workers then keep;
-  // else 0. run_slab_pipeline() asks the writer itself.
+  // For slab_pipeline_bytes(): formatted_bytes_per_polygon() of the mesh's format, when the
+  // mesh writer has a face formatter (MeshWriter::face_formatter: STL) whose records the
+  // workers then keep; else 0. run_slab_pipeline() asks the writer itself.
   std::size_t formatted_bytes_per_polygon = 0;
 };
 

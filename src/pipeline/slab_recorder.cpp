@@ -1,6 +1,9 @@
 #include "pipeline/slab_recorder.h"
 
+#include <algorithm>
+
 #include "pipeline/stopwatch.h"
+#include "write/mesh/binary_records.h"
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
@@ -28,44 +31,59 @@ std::size_t capacity_for(std::uint32_t batch) {
   return SlabRecorder::kChunkBytes / sizeof(T) + batch;
 }
 
-// Every call carries at least one vertex or polygon (the engine sends no empty batch), so a
-// chunk handed on at kChunkBytes holds fewer calls than that many bytes of its smallest item.
-std::size_t calls_capacity() { return SlabRecorder::kChunkBytes / sizeof(Vertex) + 3; }
+// Every call counts its own size in SlabChunk::bytes(), and a call of the engine's batches at
+// least one vertex or polygon too (the engine sends no empty batch); a vertex_count call keeps
+// nothing else. A chunk handed on at kChunkBytes holds fewer calls than that many bytes allow,
+// and the geometry that follows its last polygon batch.
+std::size_t calls_capacity(bool formatted) {
+  const std::size_t smallest =
+      sizeof(SlabChunk::Call) + (formatted ? 0 : std::min(sizeof(Vertex), sizeof(Polygon)));
+  return SlabRecorder::kChunkBytes / smallest + 3;
+}
+
+// A formatted_faces call keeps one triangle at least.
+std::size_t formatted_runs_capacity() {
+  return SlabRecorder::kChunkBytes / (sizeof(SlabChunk::Call) + kStlTriangleBytes) + 3;
+}
 
 // Room for a chunk of formatted records and one polygon batch's more.
 std::size_t formatted_capacity(const EngineOptions& engine, std::size_t bytes_per_polygon) {
   return SlabRecorder::kChunkBytes + engine.polygons_per_batch * bytes_per_polygon;
 }
 
-// A formatted_faces call takes the place of at least one polygon.
-std::size_t formatted_runs_capacity(const EngineOptions& engine) {
-  return capacity_for<Polygon>(engine.polygons_per_batch);
-}
-
 }  // namespace
 
+// With formatted faces a chunk keeps records, vertex counts and, while it is formatted, one
+// polygon batch. It keeps the engine's batches only for a slab whose formatter refused one (or
+// a vertex out of float's range), which the writer then refuses in turn: those arrays are not
+// reserved and grow if that happens, in a run that fails.
 void SlabChunk::reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon) {
-  calls.reserve(calls_capacity());
+  const bool formatting = formatted_bytes_per_polygon > 0;
+  calls.reserve(calls_capacity(formatting));
+  if (formatting) {
+    polygons.reserve(engine.polygons_per_batch);
+    formatted.reserve_capacity(formatted_capacity(engine, formatted_bytes_per_polygon));
+    formatted_runs.reserve(formatted_runs_capacity());
+    return;
+  }
   placed.reserve(capacity_for<WorldVertex>(engine.vertices_per_batch));
   polygons.reserve(capacity_for<Polygon>(engine.polygons_per_batch));
   if (engine.polygon_geometry)
     geometry.reserve(capacity_for<PolygonGeometry>(engine.polygons_per_batch));
-  if (formatted_bytes_per_polygon > 0) {
-    formatted.reserve_capacity(formatted_capacity(engine, formatted_bytes_per_polygon));
-    formatted_runs.reserve(formatted_runs_capacity(engine));
-  }
 }
 
 std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine,
                                       std::size_t formatted_bytes_per_polygon) {
-  std::size_t bytes = calls_capacity() * sizeof(SlabChunk::Call) +
-                      capacity_for<WorldVertex>(engine.vertices_per_batch) * sizeof(WorldVertex) +
-                      capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
+  const bool formatting = formatted_bytes_per_polygon > 0;
+  std::size_t bytes = calls_capacity(formatting) * sizeof(SlabChunk::Call);
+  if (formatting)
+    return bytes + std::size_t{engine.polygons_per_batch} * sizeof(Polygon) +
+           formatted_capacity(engine, formatted_bytes_per_polygon) +
+           formatted_runs_capacity() * sizeof(FormattedRun);
+  bytes += capacity_for<WorldVertex>(engine.vertices_per_batch) * sizeof(WorldVertex) +
+           capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
   if (engine.polygon_geometry)
     bytes += capacity_for<PolygonGeometry>(engine.polygons_per_batch) * sizeof(PolygonGeometry);
-  if (formatted_bytes_per_polygon > 0)
-    bytes += formatted_capacity(engine, formatted_bytes_per_polygon) +
-             formatted_runs_capacity(engine) * sizeof(FormattedRun);
   return bytes;
 }
 

@@ -77,7 +77,8 @@ struct SlabChunk {
   std::size_t bytes() const {
     return placed_count * sizeof(WorldVertex) + vertices.size() * sizeof(Vertex) +
            normals.size() * sizeof(glm::vec3) + polygons.size() * sizeof(Polygon) +
-           geometry.size() * sizeof(PolygonGeometry) + formatted.size();
+           geometry.size() * sizeof(PolygonGeometry) + formatted.size() +
+           calls.size() * sizeof(Call);
   }
   // Empties it for reuse; the vectors keep their capacity, so memory stays what it was.
   void clear();
@@ -85,7 +86,9 @@ struct SlabChunk {
   // more batch of the engine's), so that filling it never reallocates: the memory a chunk takes
   // is then the pages it has touched, and no freed copy is left behind in the allocator.
   // `formatted_bytes_per_polygon`: FaceFormatter::most_bytes_per_polygon() when the slabs'
-  // faces are formatted by their workers, else 0.
+  // faces are formatted by their workers, else 0. Then the engine's batches are not reserved:
+  // a chunk keeps them only for a slab whose formatter refused one, in a run the writer then
+  // refuses too.
   void reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon = 0);
   // The bytes reserve() gives: the most a chunk's arrays take once a run has touched them all
   // (one chunk may fill its vertices, the next its polygons).

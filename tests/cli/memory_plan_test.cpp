@@ -116,7 +116,8 @@ TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
   for (const std::string outputs :
        {" -o mesh.ply", " -o mesh.ply --image picture.png", " -o mesh.stl",
         " -o mesh.obj --normals", " -o mesh.ply --threads 2 --slab-slices 4",
-        " -o mesh.obj --normals --threads 3 --slab-slices 4"}) {
+        " -o mesh.obj --normals --threads 3 --slab-slices 4",
+        " -o mesh.stl --threads 2 --slab-slices 4"}) {
     SCOPED_TRACE(outputs);
     const auto result = run_mvox(kVolume + outputs + " --stats report.json -q", dir_.path());
     ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -129,8 +130,10 @@ TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
     // The plan counts every worker's chunks of recorded output (kChunksPerWorker of up to 1.5
     // MiB), which a long run touches; in these two-slab runs the first slab's worker has the
     // turn to write throughout and records nothing (slab_write_turns.h), so half the chunks the
-    // plan counts are never touched.
-    EXPECT_GE(measured, planned * (slabs ? 0.4 : 0.6)) << json;
+    // plan counts are never touched. STL's chunks also have room for a polygon batch of
+    // seven-gons, five triangles each, which a real surface does not come near.
+    const bool stl = outputs.find(".stl") != std::string::npos;
+    EXPECT_GE(measured, planned * (slabs ? (stl ? 0.3 : 0.4) : 0.6)) << json;
     EXPECT_NE(json.find(slabs ? " slab workers (workspace, slices, window, recorded output)"
                               : "\"memory_plan\": {\"parts\": [{\"name\": \"engine workspace\""),
               std::string::npos)

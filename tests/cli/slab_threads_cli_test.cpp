@@ -167,20 +167,26 @@ TEST(SlabThreads, OneThreadMeansNoReadingAndNoWritingThread) {
 // Each 4-slice slab of this noise emits several MiB, more than a worker's chunks hold: a worker
 // ahead of the slab being written fills its chunks and waits for its turn, and a worker that
 // ends its slab before its turn leaves it recorded for whoever hands the turn on
-// (slab_write_turns.h). Any number of workers gives one engine's bytes.
+// (slab_write_turns.h). Any number of workers gives one engine's bytes: PLY, whose workers
+// record the engine's batches, and STL, whose workers record their triangles formatted
+// (face_formatter.h), the turn often coming in the middle of a slab.
 TEST(SlabThreads, SlabsLargerThanTheirChunksWaitForTheirTurnAndKeepTheBytes) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 200 * 150 * 40, 9);
-  const std::string run = "extract noise.raw --raw 200x150x40:u8 -t 128 -q -o m.ply";
-  ASSERT_EQ(run_mvox(run + " --threads 1", dir.path()).exit_code, 0);
-  const std::string one = test::read_bytes(dir.path() / "m.ply");
-  ASSERT_GT(one.size(), std::size_t{16} << 20);
-  for (const char* threads : {"2", "3", "8"}) {
-    SCOPED_TRACE(threads);
-    const auto result =
-        run_mvox(run + " --slab-slices 4 --threads " + std::string(threads), dir.path());
-    ASSERT_EQ(result.exit_code, 0) << result.output;
-    EXPECT_TRUE(test::read_bytes(dir.path() / "m.ply") == one);
+  for (const char* mesh : {"m.ply", "m.stl"}) {
+    SCOPED_TRACE(mesh);
+    const std::string run =
+        "extract noise.raw --raw 200x150x40:u8 -t 128 -q -o " + std::string(mesh);
+    ASSERT_EQ(run_mvox(run + " --threads 1", dir.path()).exit_code, 0);
+    const std::string one = test::read_bytes(dir.path() / mesh);
+    ASSERT_GT(one.size(), std::size_t{16} << 20);
+    for (const char* threads : {"2", "3", "8"}) {
+      SCOPED_TRACE(threads);
+      const auto result =
+          run_mvox(run + " --slab-slices 4 --threads " + std::string(threads), dir.path());
+      ASSERT_EQ(result.exit_code, 0) << result.output;
+      EXPECT_TRUE(test::read_bytes(dir.path() / mesh) == one);
+    }
   }
 }
 

@@ -5,20 +5,25 @@
 // made it, so that the writer refuses it in the words of a one-thread run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <random>
+#include <regex>
 #include <string>
 #include <vector>
 
 #include "command_runner.h"
 #include "file_io.h"
 #include "mvox/engine.h"
+#include "pipeline/blocking_queue.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/slab_engine_run.h"
 #include "pipeline/slab_extraction.h"
 #include "pipeline/slab_recorder.h"
 #include "read/memory/memory_volume_source.h"
 #include "write/mesh/face_formatter.h"
+#include "write/mesh/mesh_format.h"
 #include "write/mesh/ply_writer.h"
 #include "write/mesh/stl_writer.h"
 
@@ -70,40 +75,50 @@ class KeepingHandover final : public SlabRecorder::Handover {
   std::deque<SlabChunk> chunks;
 };
 
-// The whole volume as one slab through a recorder with `writer`'s formatter, its chunks then
-// replayed into `writer`.
+// A volume's slices from memory, for extract_slab().
+class MemorySlabSlices final : public SlabSlices {
+ public:
+  MemorySlabSlices(const std::vector<std::uint8_t>& samples, const VolumeInfo& info)
+      : samples_(samples), info_(info) {}
+  bool next(std::uint32_t z, SliceView* view) override {
+    view->samples = samples_.data() + std::size_t{z} * info_.width * info_.height;
+    view->width = info_.width;
+    view->height = info_.height;
+    view->type = SampleType::u8;
+    view->row_stride_bytes = info_.width;
+    return true;
+  }
+
+ private:
+  const std::vector<std::uint8_t>& samples_;
+  const VolumeInfo& info_;
+};
+
+// The volume cut into slabs of `slab_slices`, each extracted as a slab worker extracts it
+// (extract_slab) through a recorder with `writer`'s formatter whose turn never comes while it
+// records; then every slab's chunks replayed into `writer`, in order.
 void record_then_replay(const std::vector<std::uint8_t>& samples, const VolumeInfo& info,
-                        StlWriter& writer, KeepingHandover& handover) {
+                        std::uint32_t slab_slices, StlWriter& writer, KeepingHandover& handover) {
   const auto formatter = writer.face_formatter();
   ASSERT_NE(formatter, nullptr);
   SlabRecorder recorder(handover, &writer.placement(), nullptr, true, formatter.get());
-  const EngineOptions engine_options = with_geometry();
-  std::vector<std::uint64_t> workspace(
-      engine_workspace_bytes(info.width, info.height, engine_options) / 8 + 1);
-  Engine engine;
-  ASSERT_EQ(engine.init(workspace.data(), workspace.size() * 8, info.width, info.height, 128,
-                        engine_options, &recorder),
-            Status::ok);
-  ASSERT_TRUE(recorder.start(0));
-  const std::size_t slice_bytes = std::size_t{info.width} * info.height;
-  for (std::uint32_t z = 0; z < info.depth; ++z) {
-    SliceView slice;
-    slice.samples = samples.data() + z * slice_bytes;
-    slice.width = info.width;
-    slice.height = info.height;
-    slice.type = SampleType::u8;
-    slice.row_stride_bytes = info.width;
-    ASSERT_EQ(engine.push_slice(slice), Status::ok) << z;
-    if (z == 0) recorder.own_vertices_only();
+  const EngineOptions engine = with_geometry();
+  std::vector<std::uint64_t> workspace(engine_workspace_bytes(info.width, info.height, engine) / 8 +
+                                       1);
+  MemorySlabSlices slices(samples, info);
+  Cancellation cancellation;
+  for (std::uint32_t first = 0; first < info.depth; first += slab_slices) {
+    const SlabSpan span =
+        SlabSpan::of(first, std::min(info.depth, first + slab_slices), info.depth, false);
+    ASSERT_TRUE(extract_slab(span, info, 128, engine, workspace.data(), workspace.size() * 8,
+                             recorder, nullptr, nullptr, slices, cancellation, "noise"));
   }
-  ASSERT_EQ(engine.finish(), Status::ok);
-  SlabSummary summary;
-  summary.counters = engine.counters();
-  recorder.end(summary);
   SlabReplay replay(&writer);
   for (SlabChunk& chunk : handover.chunks) ASSERT_EQ(replay.replay(chunk), Status::ok);
 }
 
+// Four slabs: the three after the first start with polygons that refer to the vertices of the
+// slice before them (Engine::begin_slab), which the formatter must take as its own.
 TEST(SlabFaceFormatting, RecordedFacesAreFormattedRecordsThatReplayAsOneEnginesFile) {
   const VolumeInfo info = noise_info(23);
   const auto samples = noise(info);
@@ -117,13 +132,20 @@ TEST(SlabFaceFormatting, RecordedFacesAreFormattedRecordsThatReplayAsOneEnginesF
   }
   KeepingHandover handover;
   StlWriter writer(dir.file("recorded.stl"), mirrored_options());
-  record_then_replay(samples, info, writer, handover);
+  record_then_replay(samples, info, 6, writer, handover);
   writer.finish();
   EXPECT_TRUE(test::read_bytes(dir.file("recorded.stl")) == test::read_bytes(dir.file("one.stl")));
 
-  // What was recorded: formatted records and vertex counts, not the engine's batches.
-  std::size_t formatted = 0, counted = 0, other = 0, record_bytes = 0;
+  // What was recorded: formatted records and vertex counts, not the engine's batches, in every
+  // slab, from its first layer on.
+  std::size_t formatted = 0, counted = 0, other = 0, record_bytes = 0, slabs = 0;
   for (const SlabChunk& chunk : handover.chunks) {
+    if (chunk.first) {
+      ++slabs;
+      EXPECT_EQ(chunk.shared_vertices > 0, slabs > 1) << "slab " << slabs;
+      ASSERT_FALSE(chunk.calls.empty());
+      EXPECT_EQ(chunk.calls.back().kind, SlabChunk::Kind::formatted_faces) << "slab " << slabs;
+    }
     for (const SlabChunk::Call& call : chunk.calls) {
       if (call.kind == SlabChunk::Kind::formatted_faces)
         ++formatted;
@@ -137,10 +159,130 @@ TEST(SlabFaceFormatting, RecordedFacesAreFormattedRecordsThatReplayAsOneEnginesF
     EXPECT_TRUE(chunk.geometry.empty());
     EXPECT_EQ(chunk.placed_count, 0u);
   }
-  EXPECT_GT(formatted, 1u);
-  EXPECT_GT(counted, 1u);
+  EXPECT_EQ(slabs, 4u);
+  EXPECT_GT(formatted, 4u);
+  EXPECT_GT(counted, 4u);
   EXPECT_EQ(other, 0u);
   EXPECT_EQ(record_bytes, writer.faces_written() * 50);
+}
+
+// A triangle of vertices 0, 1, 2 at (x, 0, 0), (x + 1, 0, 0), (x, 1, 0): its batch entry and
+// its geometry.
+void triangle_at(float x, Polygon* polygon, PolygonGeometry* geometry) {
+  polygon->vertex_count = 3;
+  geometry->vertex_count = 3;
+  const float corners[3][2] = {{x, 0}, {x + 1, 0}, {x, 1}};
+  for (int k = 0; k < 3; ++k) {
+    polygon->vertices[k] = static_cast<std::uint32_t>(k);
+    geometry->vertices[k].x = corners[k][0];
+    geometry->vertices[k].y = corners[k][1];
+    geometry->vertices[k].z = 0;
+  }
+}
+
+// The recorder fed by hand, as an engine would call it, and the same calls made straight into
+// a writer: what the recorded chunks replay must be refused in the same words.
+struct HandFed {
+  std::vector<Vertex> vertices;
+  std::vector<Polygon> polygons;
+  std::vector<PolygonGeometry> geometry;
+
+  void feed(PolygonSink& sink) const {
+    ASSERT_EQ(sink.consume_vertices(vertices.data(), vertices.size()), Status::ok);
+    sink.consume_polygons(polygons.data(), polygons.size());
+    sink.consume_polygon_geometry(geometry.data(), geometry.size());
+  }
+};
+
+std::string refusal_straight(const HandFed& calls, const MeshWriterOptions& options,
+                             const std::string& path) {
+  StlWriter writer(path, options);
+  writer.consume_vertices(calls.vertices.data(), calls.vertices.size());
+  writer.consume_polygons(calls.polygons.data(), calls.polygons.size());
+  writer.consume_polygon_geometry(calls.geometry.data(), calls.geometry.size());
+  return writer.error() ? writer.error()->what() : "";
+}
+
+std::string refusal_recorded(const HandFed& calls, const MeshWriterOptions& options,
+                             const std::string& path, KeepingHandover& handover) {
+  StlWriter writer(path, options);
+  const auto formatter = writer.face_formatter();
+  SlabRecorder recorder(handover, &writer.placement(), nullptr, true, formatter.get());
+  if (!recorder.start(0)) return "cancelled";
+  recorder.own_vertices_only();
+  calls.feed(recorder);
+  recorder.end(SlabSummary());
+  SlabReplay replay(&writer);
+  for (SlabChunk& chunk : handover.chunks) replay.replay(chunk);
+  return writer.error() ? writer.error()->what() : "";
+}
+
+// 600 triangles, more than the writer formats in one run (512), the last one with a corner that
+// leaves float's range only in its geometry: the formatter refuses the batch after it has
+// formatted a run of it. Nothing of it is kept, and the writer, given the batch as the engine
+// made it, refuses it as it refuses it straight.
+TEST(SlabFaceFormatting, ABatchTheFormatterRefusesIsRecordedAsTheEngineMadeIt) {
+  MeshWriterOptions options;
+  options.transform.spacing = {1e36, 1.0, 1.0};  // x beyond 340 leaves float's range
+  HandFed calls;
+  calls.vertices.resize(3);
+  calls.vertices[1].x = 1;
+  calls.vertices[2].y = 1;
+  calls.polygons.resize(600);
+  calls.geometry.resize(600);
+  for (std::size_t i = 0; i < 600; ++i)
+    triangle_at(i + 1 < 600 ? 0.0f : 400.0f, &calls.polygons[i], &calls.geometry[i]);
+  test::ScratchDirectory dir;
+  const std::string straight = refusal_straight(calls, options, dir.file("a.stl"));
+  EXPECT_NE(straight.find("lies outside the float range"), std::string::npos) << straight;
+  KeepingHandover handover;
+  EXPECT_EQ(refusal_recorded(calls, options, dir.file("b.stl"), handover),
+            std::regex_replace(straight, std::regex("a\\.stl"), "b.stl"));
+  ASSERT_EQ(handover.chunks.size(), 1u);
+  const SlabChunk& chunk = handover.chunks.front();
+  ASSERT_EQ(chunk.calls.size(), 3u);
+  EXPECT_EQ(chunk.calls[0].kind, SlabChunk::Kind::vertex_count);
+  EXPECT_EQ(chunk.calls[1].kind, SlabChunk::Kind::polygons);
+  EXPECT_EQ(chunk.calls[2].kind, SlabChunk::Kind::geometry);
+  EXPECT_EQ(chunk.formatted.size(), 0u) << "the refused batch's first run was kept";
+}
+
+// A vertex batch with a vertex beyond float's range: recorded whole, not counted, so that the
+// writer names that vertex as one thread does, before any polygon refers to it.
+TEST(SlabFaceFormatting, AVertexBeyondFloatsRangeIsRecordedForTheWriterToName) {
+  MeshWriterOptions options;
+  options.transform.spacing = {1e36, 1.0, 1.0};
+  HandFed calls;
+  calls.vertices.resize(3);
+  calls.vertices[1].x = 400;  // vertex 1: beyond float's range once placed
+  calls.vertices[2].y = 1;
+  calls.polygons.resize(1);
+  calls.geometry.resize(1);
+  triangle_at(0, &calls.polygons[0], &calls.geometry[0]);
+  test::ScratchDirectory dir;
+  const std::string straight = refusal_straight(calls, options, dir.file("a.stl"));
+  EXPECT_NE(straight.find("vertex 1 lies outside the float range"), std::string::npos) << straight;
+  KeepingHandover handover;
+  EXPECT_EQ(refusal_recorded(calls, options, dir.file("b.stl"), handover),
+            std::regex_replace(straight, std::regex("a\\.stl"), "b.stl"));
+  ASSERT_EQ(handover.chunks.size(), 1u);
+  ASSERT_FALSE(handover.chunks.front().calls.empty());
+  EXPECT_EQ(handover.chunks.front().calls[0].kind, SlabChunk::Kind::vertices);
+}
+
+// The memory plan's figure for each format (formatted_bytes_per_polygon, made before any
+// writer) is what the format's writer says when the run asks it.
+TEST(SlabFaceFormatting, ThePlanAndTheWriterAgreeOnTheFormattedRecords) {
+  test::ScratchDirectory dir;
+  for (const MeshFormat format :
+       {MeshFormat::ply, MeshFormat::ply_ascii, MeshFormat::stl, MeshFormat::obj}) {
+    SCOPED_TRACE(mesh_format_name(format));
+    const auto writer = open_mesh_writer(dir.file("m"), format, MeshWriterOptions());
+    const auto formatter = writer->face_formatter();
+    EXPECT_EQ(formatted_bytes_per_polygon(format),
+              formatter ? formatter->most_bytes_per_polygon() : 0);
+  }
+  EXPECT_EQ(formatted_bytes_per_polygon(MeshFormat::stl), 5u * 50u);
 }
 
 TEST(SlabFaceFormatting, OnlyAFormatWithoutIndicesInItsFaceRecordsHasAFormatter) {

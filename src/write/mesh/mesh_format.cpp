@@ -48,6 +48,10 @@ std::uint64_t mesh_writer_working_bytes(MeshFormat format) {
   return files * 2 * BufferedWriter::kBufferBytes + kMeshWriterBatchBytes;
 }
 
+std::size_t formatted_bytes_per_polygon(MeshFormat format) {
+  return format == MeshFormat::stl ? StlWriter::kMostBytesPerPolygon : 0;
+}
+
 bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options) {
   return format == MeshFormat::stl || options.triangulate;
 }

@@ -35,6 +35,11 @@ constexpr std::uint64_t kMeshWriterBatchBytes = 512 * 1024;
 // spool files; STL keeps triangles in one on a pipe), and the shared MeshWriter's batches.
 std::uint64_t mesh_writer_working_bytes(MeshFormat format);
 
+// For a format whose writers have a FaceFormatter (MeshWriter::face_formatter: STL), the most
+// bytes of records it makes of one polygon (FaceFormatter::most_bytes_per_polygon); else 0.
+// For memory plans, made before any writer.
+std::size_t formatted_bytes_per_polygon(MeshFormat format);
+
 // True when a writer of `format` with `options` needs every polygon's geometry from the engine
 // (EngineOptions::polygon_geometry): STL and --triangulate.
 bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options);

@@ -145,7 +145,6 @@ void MeshWriter::restart(std::uint64_t first_vertex) {
   face_fill_ = 0;
   pending_batch_ = false;
   error_.reset();
-  finished_ = false;
 }
 
 void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_count,

@@ -174,7 +174,8 @@ class MeshWriter : public PolygonSink {
   virtual void write_formatted_faces(const unsigned char* records, std::size_t bytes,
                                      std::size_t face_count);
   // Starts over, counting vertices from `first_vertex`, as a writer of a part that starts there
-  // (a FaceFormatter's next slab). Forgets the counts, a waiting polygon batch and an error.
+  // (a FaceFormatter's next slab). Forgets the counts, a waiting polygon batch and an error. A
+  // writer once completed stays so, and refuses every batch (its buffers are gone).
   void restart(std::uint64_t first_vertex);
 
  private:
