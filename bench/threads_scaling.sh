@@ -77,54 +77,45 @@ compare_runs() {
   echo
 }
 
-# end_to_end NAME INPUT_ARGUMENTS: `mvox extract INPUT_ARGUMENTS -o PLY` with one thread, one
-# engine and a reading thread (one slab), and 2..MAX_THREADS slab workers.
-end_to_end() {
-  local name=$1 input=$2 threads
-  commands=("$mvox extract $input -q -o $scratch/$name-1.ply --threads 1"
-            "$mvox extract $input -q -o $scratch/$name-ahead.ply --threads 2 --slab-slices $depth")
-  names=("--threads 1 (one thread)" "one engine and a reading thread")
-  outputs=("$scratch/$name-1.ply" "$scratch/$name-ahead.ply")
+# thread_runs NAME INPUT OPTION EXTENSION [ahead]: `mvox extract INPUT -q OPTION FILE` (FILE:
+# NAME-N.EXTENSION) with one thread and with 2..MAX_THREADS slab workers, and with "ahead" also
+# with one engine and a reading thread (one slab).
+thread_runs() {
+  local name=$1 input=$2 option=$3 extension=$4 ahead=${5:-} threads
+  commands=("$mvox extract $input -q $option $scratch/$name-1.$extension --threads 1")
+  names=("--threads 1 (one thread)")
+  outputs=("$scratch/$name-1.$extension")
+  if [ "$ahead" = ahead ]; then
+    commands+=("$mvox extract $input -q $option $scratch/$name-ahead.$extension --threads 2 --slab-slices $depth")
+    names+=("one engine and a reading thread")
+    outputs+=("$scratch/$name-ahead.$extension")
+  fi
   for threads in $(seq 2 "$max_threads"); do
-    commands+=("$mvox extract $input -q -o $scratch/$name-$threads.ply --threads $threads")
+    commands+=("$mvox extract $input -q $option $scratch/$name-$threads.$extension --threads $threads")
     names+=("--threads $threads")
-    outputs+=("$scratch/$name-$threads.ply")
+    outputs+=("$scratch/$name-$threads.$extension")
   done
   compare_runs "$name"
 }
 
+raw="$scratch/volume.raw --raw 256x256x$depth:u8 -t 100"
+
 echo "## End to end: raw file to binary PLY"
 echo
-end_to_end raw "$scratch/volume.raw --raw 256x256x$depth:u8 -t 100"
+thread_runs raw "$raw" -o ply ahead
 
 echo "## End to end: raw file to binary STL (each worker formats its slabs' triangles)"
 echo
-commands=()
-names=()
-outputs=()
-for threads in $(seq 1 "$max_threads"); do
-  commands+=("$mvox extract $scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q -o $scratch/mesh-$threads.stl --threads $threads")
-  names+=("--threads $threads")
-  outputs+=("$scratch/mesh-$threads.stl")
-done
-compare_runs stl
+thread_runs stl "$raw" -o stl
 
 echo "## End to end: PNG stack to binary PLY (each worker decodes its own slabs)"
 echo
 "$mvox" phantom blobs --size "256x256x$depth" -o "$scratch/stack" -q
-end_to_end png "$scratch/stack -t 128"
+thread_runs png "$scratch/stack -t 128" -o ply ahead
 
 echo "## End to end: raw file to a picture (--image), each worker drawing a layer of its own"
 echo
-commands=()
-names=()
-outputs=()
-for threads in $(seq 1 "$max_threads"); do
-  commands+=("$mvox extract $scratch/volume.raw --raw 256x256x$depth:u8 -t 100 -q --image $scratch/picture-$threads.png --threads $threads")
-  names+=("--threads $threads")
-  outputs+=("$scratch/picture-$threads.png")
-done
-compare_runs picture
+thread_runs picture "$raw" --image png
 
 mpi=$build/src/mvox-mpi
 if [ -x "$mpi" ] && command -v mpirun > /dev/null; then

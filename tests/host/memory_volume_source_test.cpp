@@ -6,11 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <random>
 #include <vector>
 
 #include "command_runner.h"
 #include "file_io.h"
+#include "slab_run_checks.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/slab_extraction.h"
 #include "write/mesh/ply_writer.h"
@@ -28,10 +28,7 @@ VolumeInfo noise_info() {
 }
 
 std::vector<std::uint8_t> noise(const VolumeInfo& info) {
-  std::mt19937 random(7);
-  std::vector<std::uint8_t> samples(std::size_t{info.width} * info.height * info.depth);
-  for (auto& sample : samples) sample = static_cast<std::uint8_t>(random() & 0xff);
-  return samples;
+  return test::noise_samples(std::size_t{info.width} * info.height * info.depth, 7);
 }
 
 TEST(MemoryVolumeSource, ARangeStreamsExactlyItsSlicesWithoutACopy) {

@@ -8,13 +8,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <deque>
-#include <random>
 #include <regex>
 #include <string>
 #include <vector>
 
 #include "command_runner.h"
 #include "file_io.h"
+#include "slab_run_checks.h"
 #include "mvox/engine.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/pipeline.h"
@@ -40,10 +40,7 @@ VolumeInfo noise_info(std::uint32_t depth) {
 }
 
 std::vector<std::uint8_t> noise(const VolumeInfo& info) {
-  std::mt19937 random(5);
-  std::vector<std::uint8_t> samples(std::size_t{info.width} * info.height * info.depth);
-  for (auto& sample : samples) sample = static_cast<std::uint8_t>(random() & 0xff);
-  return samples;
+  return test::noise_samples(std::size_t{info.width} * info.height * info.depth, 5);
 }
 
 // Scaled, shifted, and mirrored by a rotation with a reflection, so that the formatter has to

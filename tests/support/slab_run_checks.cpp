@@ -25,14 +25,18 @@ const std::vector<MeshCase>& every_format_and_option() {
   return cases;
 }
 
-void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed) {
-  std::vector<unsigned char> bytes(voxels);
+std::vector<std::uint8_t> noise_samples(std::size_t voxels, std::uint64_t seed) {
+  std::vector<std::uint8_t> bytes(voxels);
   std::uint64_t state = seed;
-  for (unsigned char& byte : bytes) {
+  for (std::uint8_t& byte : bytes) {
     state = state * 6364136223846793005ull + 1442695040888963407ull;
-    byte = static_cast<unsigned char>(state >> 56);
+    byte = static_cast<std::uint8_t>(state >> 56);
   }
-  write_bytes(path, bytes);
+  return bytes;
+}
+
+void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed) {
+  write_bytes(path, noise_samples(voxels, seed));
 }
 
 std::string counters_of(const std::string& report) {

@@ -19,6 +19,8 @@ const std::vector<MeshCase>& every_format_and_option();
 
 // `voxels` bytes of 8-bit noise at `path`, the same for the same seed.
 void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed);
+// The same noise in memory.
+std::vector<std::uint8_t> noise_samples(std::size_t voxels, std::uint64_t seed);
 
 // The counters of a --stats report: from "inner_voxels" to the times (which, with the memory
 // figures and the renderer's work counters after them, differ from run to run). Fails the test
