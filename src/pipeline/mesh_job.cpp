@@ -148,6 +148,21 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
   return slabs >= 2 ? std::min(threads, slabs) : 1;
 }
 
+namespace {
+
+// Whether the writers may write on a thread of their own (BufferedWriter) in a run of `threads`
+// slab workers. Slab workers on every core leave none for a writing thread beside them: each
+// worker then writes on its own thread when its turn comes, as --threads 1 does. Two workers on
+// two cores were 4-6% faster so (medians of 21 interleaved rounds, raw 256x256x1024 to PLY and
+// STL).
+bool writes_in_background(unsigned threads) {
+  const bool every_core =
+      threads > 1 && threads >= std::max(1u, std::thread::hardware_concurrency());
+  return BufferedWriter::background_writes_allowed() && !every_core;
+}
+
+}  // namespace
+
 MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
                            const EngineOptions& engine) {
   const VolumeInfo& info = source.info();
@@ -200,7 +215,10 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     plan.add("picture (z-buffer, encoding)",
              zbuffer_workspace_bytes(job.picture.width, job.picture.height) + 2 * pixels);
   }
-  if (!job.output.empty()) plan.add("mesh writer buffers", mesh_writer_working_bytes(job.format));
+  if (!job.output.empty())
+    plan.add("mesh writer buffers",
+             mesh_writer_working_bytes(job.format,
+                                       writes_in_background(slab_threads(source, job))));
   return plan;
 }
 
@@ -279,6 +297,11 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
   const unsigned threads = slab_threads(source, job);
+  struct BackgroundWrites {
+    bool before = BufferedWriter::background_writes_allowed();
+    explicit BackgroundWrites(bool allowed) { BufferedWriter::allow_background_writes(allowed); }
+    ~BackgroundWrites() { BufferedWriter::allow_background_writes(before); }
+  } background_writes(writes_in_background(threads));
   std::optional<NormalWindow> normal_window;
   if (threads == 1 && (job.normals || (want_picture && job.picture.smooth)))
     normal_window.emplace(report.volume, placement.spacing, job.input_label,

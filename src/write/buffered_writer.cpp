@@ -42,11 +42,15 @@ struct BufferedWriter::Background {
 };
 
 namespace {
-std::atomic<bool> background_writes_allowed{true};
+std::atomic<bool> background_writes{true};
 }  // namespace
 
 void BufferedWriter::allow_background_writes(bool allowed) {
-  background_writes_allowed.store(allowed, std::memory_order_relaxed);
+  background_writes.store(allowed, std::memory_order_relaxed);
+}
+
+bool BufferedWriter::background_writes_allowed() {
+  return background_writes.load(std::memory_order_relaxed);
 }
 
 BufferedWriter::BufferedWriter() : buffer_(new char[kBufferBytes]) {}
@@ -121,7 +125,7 @@ int BufferedWriter::wait_for_background() {
 int BufferedWriter::hand_off() {
   if (used_ == 0) return wait_for_background();
   allocate_to(total_);
-  if (!background_ && !background_writes_allowed.load(std::memory_order_relaxed)) {
+  if (!background_ && !background_writes.load(std::memory_order_relaxed)) {
     const int error = write_fully(fd_, buffer_.get(), used_);
     used_ = 0;
     return error;

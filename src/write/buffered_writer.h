@@ -25,6 +25,7 @@ class BufferedWriter {
   // Off, every writer writes on its caller's thread: `mvox extract --threads 1`, so that a run
   // on a single-core device takes one thread.
   static void allow_background_writes(bool allowed);
+  static bool background_writes_allowed();
 
   BufferedWriter();
   ~BufferedWriter();  // waits for a background write in progress; buffered bytes are dropped

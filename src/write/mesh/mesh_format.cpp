@@ -41,11 +41,12 @@ std::optional<MeshFormat> mesh_format_of_path(const std::string& path) {
   return std::nullopt;
 }
 
-std::uint64_t mesh_writer_working_bytes(MeshFormat format) {
+std::uint64_t mesh_writer_working_bytes(MeshFormat format, bool background_writes) {
   const std::uint64_t files = format == MeshFormat::obj ? 1 : format == MeshFormat::stl ? 2 : 3;
   // Each file's buffer may have a second one while the first is written in the background
   // (buffered_writer.h).
-  return files * 2 * BufferedWriter::kBufferBytes + kMeshWriterBatchBytes;
+  const std::uint64_t buffers = background_writes ? 2 : 1;
+  return files * buffers * BufferedWriter::kBufferBytes + kMeshWriterBatchBytes;
 }
 
 std::size_t formatted_bytes_per_polygon(MeshFormat format) {

@@ -32,8 +32,9 @@ constexpr std::uint64_t kMeshWriterBatchBytes = 512 * 1024;
 
 // The most memory a writer of `format` takes, whatever the mesh size: its write buffers
 // (BufferedWriter, one per file and spool file: PLY keeps faces, and on a pipe vertices too, in
-// spool files; STL keeps triangles in one on a pipe), and the shared MeshWriter's batches.
-std::uint64_t mesh_writer_working_bytes(MeshFormat format);
+// spool files; STL keeps triangles in one on a pipe; each with a second buffer when
+// `background_writes`), and the shared MeshWriter's batches.
+std::uint64_t mesh_writer_working_bytes(MeshFormat format, bool background_writes = true);
 
 // For a format whose writers have a FaceFormatter (MeshWriter::face_formatter: STL), the most
 // bytes of records it makes of one polygon (FaceFormatter::most_bytes_per_polygon); else 0.
