@@ -215,10 +215,10 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     plan.add("picture (z-buffer, encoding)",
              zbuffer_workspace_bytes(job.picture.width, job.picture.height) + 2 * pixels);
   }
-  if (!job.output.empty())
-    plan.add("mesh writer buffers",
-             mesh_writer_working_bytes(job.format,
-                                       writes_in_background(slab_threads(source, job))));
+  if (!job.output.empty()) {
+    const bool background = writes_in_background(slab_threads(source, job));
+    plan.add("mesh writer buffers", mesh_writer_working_bytes(job.format, background));
+  }
   return plan;
 }
 
