@@ -170,7 +170,8 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   const bool picture = job.picture.wanted();
   MemoryPlan plan;
   plan.process_bytes = current_resident_bytes();
-  if (const unsigned threads = slab_threads(source, job); threads > 1) {
+  const unsigned threads = slab_threads(source, job);
+  if (threads > 1) {
     SlabOptions slabs;
     slabs.threads = threads;
     slabs.slab_slices = job.slab_slices;
@@ -215,10 +216,9 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     plan.add("picture (z-buffer, encoding)",
              zbuffer_workspace_bytes(job.picture.width, job.picture.height) + 2 * pixels);
   }
-  if (!job.output.empty()) {
-    const bool background = writes_in_background(slab_threads(source, job));
-    plan.add("mesh writer buffers", mesh_writer_working_bytes(job.format, background));
-  }
+  if (!job.output.empty())
+    plan.add("mesh writer buffers",
+             mesh_writer_working_bytes(job.format, writes_in_background(threads)));
   return plan;
 }
 

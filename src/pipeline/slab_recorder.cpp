@@ -152,7 +152,7 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
       // The writer keeps only the count; the placement checks that every vertex is in range.
       if (placed_batch_.size() < count) placed_batch_.resize(count);
       if (placement_->place(vertices, normals, count, placed_batch_.data()) == count &&
-          formatter_->consume_placed_vertices(placed_batch_.data(), count) == Status::ok) {
+          formatter_->consume_vertex_count(count) == Status::ok) {
         chunk_->calls.push_back(
             {SlabChunk::Kind::vertex_count, own_only_, static_cast<std::uint32_t>(count)});
         return after_call() ? Status::ok : Status::sink_refused;
