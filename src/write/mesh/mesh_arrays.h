@@ -34,6 +34,19 @@ struct MeshArrays {
 // unused: the indices are first grown by seven a polygon, then cut back to what they hold.
 void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count);
 
+// Appends the x, y and z of `count` engine vertices to `arrays.vertices` as they are: their
+// world positions when the spacing is 1 and the origin 0. Each vertex's first 16 bytes are
+// copied whole, the next one overwriting the fourth float.
+void append_vertex_positions(MeshArrays& arrays, const Vertex* vertices, std::size_t count);
+
+// Both appends are bound by their stores into megabytes of fresh memory. With AVX2 (chosen at
+// run time) a polygon is one store and two vertices are one, into a small staging buffer whose
+// whole 32-byte blocks go out with non-temporal stores (mesh_arrays.cpp). These are the plain
+// loops: the references the fast ones are tested against, and the appends without AVX2.
+void append_polygons_portable(MeshArrays& arrays, const Polygon* polygons, std::size_t count);
+void append_vertex_positions_portable(MeshArrays& arrays, const Vertex* vertices,
+                                      std::size_t count);
+
 // A MeshWriter into MeshArrays. Memory grows with the mesh, as the arrays it returns must.
 class MeshArraysWriter : public MeshWriter {
  public:
