@@ -49,16 +49,14 @@ Mesh mesh_from(MeshArrays&& arrays, const EngineCounters& counters, bool triangl
   mesh.vertices = to_numpy(std::move(arrays.vertices), {vertex_count, 3});
   if (!arrays.normals.empty())
     mesh.normals = to_numpy(std::move(arrays.normals), {vertex_count, 3});
-  if (triangles) {
-    // The same indices seen as rows of three: one array shared, no copy.
-    py::array_t<std::int32_t> indices =
-        to_numpy(std::move(arrays.polygon_indices), {face_count * 3});
-    mesh.faces = indices.attr("reshape")(face_count, 3);
-    mesh.polygon_indices = indices;
-  } else {
-    const auto index_count = static_cast<py::ssize_t>(arrays.polygon_indices.size());
-    mesh.polygon_indices = to_numpy(std::move(arrays.polygon_indices), {index_count});
-  }
+  // The indices as numpy owns them: int32, or int64 for a mesh past 2^31 vertices.
+  const auto index_count = static_cast<py::ssize_t>(arrays.index_count());
+  py::array indices =
+      arrays.wide ? py::array(to_numpy(std::move(arrays.wide_polygon_indices), {index_count}))
+                  : py::array(to_numpy(std::move(arrays.polygon_indices), {index_count}));
+  // Triangles: the same indices seen as rows of three, one array shared, no copy.
+  if (triangles) mesh.faces = indices.attr("reshape")(face_count, 3);
+  mesh.polygon_indices = indices;
   mesh.polygon_offsets = to_numpy(std::move(arrays.polygon_offsets), {face_count + 1});
   mesh.counters = counters_dict(counters);
   return mesh;

@@ -28,7 +28,7 @@ py::dict counters_dict(const EngineCounters& counters);
 struct Mesh {
   py::array_t<float> vertices;
   py::array_t<std::int64_t> polygon_offsets;
-  py::array_t<std::int32_t> polygon_indices;
+  py::array polygon_indices;        // int32, or int64 past 2^31 vertices (MeshArrays::wide)
   py::object faces = py::none();    // (M, 3) when triangulated
   py::object normals = py::none();  // (N, 3) when asked for
   py::dict counters;

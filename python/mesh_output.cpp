@@ -11,15 +11,12 @@
 
 namespace mvox {
 
-void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<std::string>& format,
-                bool ascii) {
-  std::optional<MeshFormat> chosen =
-      format ? mesh_format_named(*format) : mesh_format_of_path(path);
-  if (!chosen)
-    throw py::value_error("cannot tell the mesh format of '" + path +
-                          "': name it .ply, .stl or .obj, or give format=\"ply\", \"ply-ascii\", "
-                          "\"stl\" or \"obj\"");
-  if (ascii && *chosen == MeshFormat::ply) chosen = MeshFormat::ply_ascii;
+namespace {
+
+// write_mesh() for the mesh's index type (int32, or int64 in a mesh of more than 2^31 vertices).
+template <class Index>
+void write_mesh_as(const Mesh& mesh, const py::array_t<Index>& index_array, const std::string& path,
+                   MeshFormat chosen) {
   // The arrays are the caller's to change: their shapes and offsets are checked before any is
   // read without bounds checks.
   if (mesh.vertices.ndim() != 2 || mesh.vertices.shape(1) != 3)
@@ -30,7 +27,7 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<s
   const auto vertices = mesh.vertices.unchecked<2>();
   const py::ssize_t vertex_count = vertices.shape(0);
   // Vertex normals where the format holds them; STL's face normals come from the triangles.
-  const bool with_normals = !mesh.normals.is_none() && *chosen != MeshFormat::stl;
+  const bool with_normals = !mesh.normals.is_none() && chosen != MeshFormat::stl;
   py::array_t<float> normal_array;
   if (with_normals) {
     normal_array = mesh.normals.cast<py::array_t<float>>();
@@ -39,7 +36,7 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<s
       throw py::value_error("mesh.normals must have shape (N, 3), one row a vertex");
   }
   const auto offsets = mesh.polygon_offsets.unchecked<1>();
-  const auto indices = mesh.polygon_indices.unchecked<1>();
+  const auto indices = index_array.template unchecked<1>();
   const py::ssize_t faces = offsets.shape(0) - 1;
   if (offsets(0) != 0 || offsets(faces) != indices.shape(0))
     throw py::value_error("mesh.polygon_offsets must run from 0 to len(polygon_indices)");
@@ -48,13 +45,13 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<s
     if (size < 3 || size > kMaxPolygonVertices)
       throw py::value_error("face " + std::to_string(i) + " has " + std::to_string(size) +
                             " vertices; the writers take 3 to 7");
-    if (*chosen == MeshFormat::stl && size != 3)
+    if (chosen == MeshFormat::stl && size != 3)
       throw py::value_error("STL holds triangles only: extract with triangulate=True");
   }
   MeshWriterOptions options;
   options.comments.push_back("mvox (Python)");
   options.normals_given = with_normals;
-  std::unique_ptr<MeshWriter> writer = open_mesh_writer(path, *chosen, options);
+  std::unique_ptr<MeshWriter> writer = open_mesh_writer(path, chosen, options);
   auto refused = [&](Status status) {
     if (status == Status::ok) return;
     if (writer->error()) throw *writer->error();
@@ -85,7 +82,7 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<s
       polygon.vertex_count = positions.vertex_count =
           static_cast<std::uint8_t>(offsets(i + 1) - offsets(i));
       for (int k = 0; k < polygon.vertex_count; ++k) {
-        const std::int32_t index = indices(offsets(i) + k);
+        const std::int64_t index = indices(offsets(i) + k);
         if (index < 0 || index >= vertex_count)
           throw py::value_error("face " + std::to_string(i) + " refers to vertex " +
                                 std::to_string(index) + " of " + std::to_string(vertex_count));
@@ -102,6 +99,31 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<s
       refused(writer->consume_polygon_geometry(geometry.data(), geometry.size()));
   }
   writer->finish();
+}
+
+}  // namespace
+
+void write_mesh(const Mesh& mesh, const std::string& path, const std::optional<std::string>& format,
+                bool ascii) {
+  std::optional<MeshFormat> chosen =
+      format ? mesh_format_named(*format) : mesh_format_of_path(path);
+  if (!chosen)
+    throw py::value_error("cannot tell the mesh format of '" + path +
+                          "': name it .ply, .stl or .obj, or give format=\"ply\", \"ply-ascii\", "
+                          "\"stl\" or \"obj\"");
+  if (ascii && *chosen == MeshFormat::ply) chosen = MeshFormat::ply_ascii;
+  // Faces are handed to the writers after every vertex, with 32-bit indices that the writers
+  // make whole among the last 2^32 vertices written (mvox/mesh.h): beyond 2^32 vertices a face
+  // could refer further back than that.
+  if (mesh.vertices.ndim() == 2 &&
+      static_cast<std::uint64_t>(mesh.vertices.shape(0)) > (std::uint64_t{1} << 32))
+    throw py::value_error("mvox.write takes meshes of up to 4294967296 vertices; this one has " +
+                          std::to_string(mesh.vertices.shape(0)));
+  if (py::isinstance<py::array_t<std::int32_t>>(mesh.polygon_indices))
+    return write_mesh_as(mesh, py::array_t<std::int32_t>(mesh.polygon_indices), path, *chosen);
+  if (py::isinstance<py::array_t<std::int64_t>>(mesh.polygon_indices))
+    return write_mesh_as(mesh, py::array_t<std::int64_t>(mesh.polygon_indices), path, *chosen);
+  throw py::type_error("mesh.polygon_indices must be int32 or int64");
 }
 
 }  // namespace mvox

@@ -38,8 +38,10 @@ PYBIND11_MODULE(mvox, m) {
       .def_readonly("vertices", &Mesh::vertices, "(N, 3) float32: x, y, z of each vertex")
       .def_readonly("polygon_offsets", &Mesh::polygon_offsets,
                     "(M + 1,) int64: face i is polygon_indices[offsets[i]:offsets[i + 1]]")
-      .def_readonly("polygon_indices", &Mesh::polygon_indices, "int32 vertex indices")
-      .def_readonly("faces", &Mesh::faces, "(M, 3) int32 triangles, when triangulate=True")
+      .def_readonly("polygon_indices", &Mesh::polygon_indices,
+                    "int32 vertex indices (int64 in a mesh of more than 2^31 vertices)")
+      .def_readonly("faces", &Mesh::faces,
+                    "(M, 3) triangles, when triangulate=True: polygon_indices' memory")
       .def_readonly("normals", &Mesh::normals, "(N, 3) float32 unit normals, when normals=True")
       .def_readonly("counters", &Mesh::counters, "the engine's counts")
       .def("__repr__", [](const Mesh& mesh) {

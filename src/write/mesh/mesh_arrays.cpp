@@ -38,6 +38,13 @@ void MeshArraysWriter::write_vertices(const WorldVertex* vertices, std::size_t v
 
 void MeshArraysWriter::write_faces(const Polygon* faces, const FacePositions*,
                                    std::size_t face_count, std::uint32_t index_offset) {
+  // Past 2^31 vertices an index may not fit 32 signed bits: 64 from here on. A writer of
+  // pieces (mvox.Extractor) starts each piece's arrays afresh, so the count decides, not them.
+  if (vertices_written() > kNarrowIndexVertices) {
+    if (!arrays_.wide) widen_indices(arrays_);
+    append_wide_polygons(arrays_, faces, face_count, index_offset, vertices_written());
+    return;
+  }
   if (index_offset == 0) {
     append_polygons(arrays_, faces, face_count);
     return;
@@ -191,7 +198,7 @@ void append_polygons_portable(MeshArrays& arrays, const Polygon* polygons, std::
   std::int64_t at = static_cast<std::int64_t>(first_index);
   for (std::size_t i = 0; i < count; ++i) {
     const Polygon& polygon = polygons[i];
-    std::memcpy(index, polygon.vertices, sizeof polygon.vertices);  // < 2^31 (vertex_limit): whole
+    std::memcpy(index, polygon.vertices, sizeof polygon.vertices);  // < 2^31 (narrow): whole
     index += polygon.vertex_count;
     at += polygon.vertex_count;
     *offset++ = at;
@@ -206,6 +213,37 @@ void append_vertex_positions_portable(MeshArrays& arrays, const Vertex* vertices
   float* out = arrays.vertices.data() + first;
   for (std::size_t i = 0; i < count; ++i, out += 3) std::memcpy(out, &vertices[i], sizeof(Vertex));
   arrays.vertices.resize(first + 3 * count);
+}
+
+void widen_indices(MeshArrays& arrays) {
+  if (arrays.wide) return;
+  const std::size_t count = arrays.polygon_indices.size();
+  arrays.wide_polygon_indices.resize(arrays.wide_polygon_indices.size() + count);
+  std::int64_t* wide =
+      arrays.wide_polygon_indices.data() + arrays.wide_polygon_indices.size() - count;
+  const std::int32_t* narrow = arrays.polygon_indices.data();
+  for (std::size_t i = 0; i < count; ++i) wide[i] = narrow[i];
+  arrays.polygon_indices = ArrayOf<std::int32_t>();
+  arrays.wide = true;
+}
+
+void append_wide_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count,
+                          std::uint32_t index_offset, std::uint64_t vertices_taken) {
+  const std::size_t first_index = arrays.wide_polygon_indices.size();
+  const std::size_t first_face = arrays.polygon_offsets.size();
+  arrays.wide_polygon_indices.resize(first_index + count * kMaxPolygonVertices);
+  arrays.polygon_offsets.resize(first_face + count);
+  std::int64_t* index = arrays.wide_polygon_indices.data() + first_index;
+  std::int64_t* offset = arrays.polygon_offsets.data() + first_face;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Polygon& polygon = polygons[i];
+    for (int k = 0; k < polygon.vertex_count; ++k)
+      *index++ = static_cast<std::int64_t>(
+          whole_vertex_index(polygon.vertices[k] + index_offset, vertices_taken));
+    *offset++ = index - arrays.wide_polygon_indices.data();
+  }
+  arrays.wide_polygon_indices.resize(
+      static_cast<std::size_t>(index - arrays.wide_polygon_indices.data()));
 }
 
 void append_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count) {
