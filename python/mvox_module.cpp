@@ -77,7 +77,8 @@ Returns an mvox.Mesh, equal to what `mvox extract -o mesh.ply` writes for the sa
            py::arg("interpolate") = false)
       .def("push", &Extractor::push, py::arg("slice"),
            "Takes a [y, x] slice; returns (vertices, polygon_offsets, polygon_indices) completed "
-           "by it, indices counted from the volume's first vertex, and with normals=True the "
+           "by it, indices counted from the volume's first vertex (int32; int64 once the volume "
+           "has passed 2^31 vertices), and with normals=True the "
            "vertices' normals fourth (the mesh then comes one slice later: a normal needs the "
            "slices on both sides)")
       .def("finish", &Extractor::finish, "Ends the volume; returns the rest of the mesh")
@@ -107,7 +108,13 @@ command line's message.)");
         py::arg("ascii") = false,
         R"(Writes `mesh` with the command line's writers: binary PLY (ascii=True for ASCII), STL
 (triangles only) or OBJ, by the path's extension or `format`; all or nothing, as mvox extract.
-A mesh with normals has them written to PLY and OBJ; STL holds face normals only.)");
+A mesh with normals has them written to PLY and OBJ; STL holds face normals only. Meshes of up to
+2^32 vertices.)");
+
+  m.def("_extract_numbered_from", &extract_numbered_from, py::arg("volume"), py::arg("threshold"),
+        py::arg("first_vertex"),
+        "For tests: mvox.extract(volume, threshold) with the vertices numbered from "
+        "first_vertex, so that indices pass 2^31 and 2^32 without billions of vertices");
 
   m.def("extract_file", &extract_file, py::arg("path_or_paths"), py::arg("threshold"),
         py::arg("raw") = py::none(), py::arg("spacing") = py::none(),

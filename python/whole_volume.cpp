@@ -1,17 +1,22 @@
 #include "whole_volume.h"
 
 #include <cstdint>
+#include <exception>
 #include <utility>
 
+#include "mvox/workspace_buffer.h"
 #include "numpy_interop.h"
+#include "pipeline/aligned_arrays_sink.h"
 #include "pipeline/array_extraction.h"
 #include "read/memory/memory_volume_source.h"
 
 namespace mvox {
 
-Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
-             std::array<double, 3> origin, const std::string& method, bool triangulate,
-             bool normals, bool copy, bool interpolate) {
+namespace {
+
+// The volume's geometry and type, checked as mvox.extract checks them; an array whose rows are
+// not contiguous is copied when `copy` allows, else refused.
+VolumeInfo volume_info(py::array& volume, bool copy) {
   if (volume.ndim() != 3)
     throw py::value_error("volume must have 3 dimensions [z, y, x] (slice, row, column), got " +
                           std::to_string(volume.ndim()));
@@ -37,6 +42,15 @@ Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
   info.height = static_cast<std::uint32_t>(volume.shape(1));
   info.depth = static_cast<std::uint32_t>(volume.shape(0));
   info.type = type;
+  return info;
+}
+
+}  // namespace
+
+Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
+             std::array<double, 3> origin, const std::string& method, bool triangulate,
+             bool normals, bool copy, bool interpolate) {
+  const VolumeInfo info = volume_info(volume, copy);
   MemoryVolumeSource source(volume.data(), info, volume.strides(0), volume.strides(1));
   ArrayExtractionOptions options;
   options.threshold = threshold;
@@ -50,6 +64,27 @@ Mesh extract(py::array volume, double threshold, std::array<double, 3> spacing,
     result = extract_to_arrays(source, options, "mvox.extract");
   }
   return mesh_from(std::move(result.mesh), result.counters, triangulate);
+}
+
+Mesh extract_numbered_from(py::array volume, double threshold, std::uint64_t first_vertex) {
+  const VolumeInfo info = volume_info(volume, false);
+  MemoryVolumeSource source(volume.data(), info, volume.strides(0), volume.strides(1));
+  const std::string label = "mvox._extract_numbered_from";
+  const WorldTransform identity;  // the sink keeps a reference
+  AlignedArraysSink sink(identity, info.depth, label, first_vertex);
+  const EngineOptions options;
+  WorkspaceBuffer workspace(engine_workspace_bytes(info.width, info.height, options));
+  Engine engine;
+  Status status = engine.init(workspace.data(), workspace.bytes(), info.width, info.height,
+                              threshold, options, &sink);
+  if (status == Status::ok) detail::number_vertices_from(engine, first_vertex);
+  SliceView slice;
+  while (status == Status::ok && source.next_slice(&slice)) status = engine.push_slice(slice);
+  if (status == Status::ok) status = engine.finish();
+  if (status == Status::sink_refused && sink.thrown()) std::rethrow_exception(sink.thrown());
+  if (status != Status::ok)
+    throw Error(label, std::string("extraction failed: ") + status_message(status));
+  return mesh_from(std::move(sink.mesh()), engine.counters(), false);
 }
 
 }  // namespace mvox

@@ -173,3 +173,27 @@ def test_interpolated_vertices_keep_the_polygons_and_move_along_their_edges():
     assert np.all(np.count_nonzero(shift, axis=1) <= 1)
     assert np.all(np.abs(shift) <= 0.5)
     assert np.count_nonzero(shift) > len(shift) // 2
+
+
+def test_indices_turn_int64_past_2_to_31_vertices_and_stay_whole_past_2_to_32(tmp_path):
+    """A mesh of more than 2^31 vertices gets int64 indices, never wrapped ones. The engine
+    numbers from just below each limit (mvox._extract_numbered_from, the common case's own
+    sink), so the indices pass it without billions of vertices; they must be the ones numbered
+    from 0, moved. mvox.write takes the int64 arrays (and refuses these, whose indices point
+    past the vertices the mesh holds, as it refuses any such face)."""
+    volume = np.random.default_rng(7).integers(0, 255, (20, 30, 40), dtype=np.uint8)
+    reference = mvox.extract(volume, 128)
+    assert reference.polygon_indices.dtype == np.int32
+    assert len(reference.vertices) > 20000
+    from_zero = mvox._extract_numbered_from(volume, 128, 0)
+    assert from_zero.polygon_indices.dtype == np.int32
+    assert np.array_equal(from_zero.polygon_indices, reference.polygon_indices)
+    for first in (2**31 - 10000, 2**32 - 10000):
+        mesh = mvox._extract_numbered_from(volume, 128, first)
+        assert mesh.polygon_indices.dtype == np.int64
+        assert np.array_equal(mesh.polygon_offsets, reference.polygon_offsets)
+        assert np.array_equal(mesh.polygon_indices, reference.polygon_indices.astype(np.int64) + first)
+        assert mesh.polygon_indices.max() > first + 10000, "no index passed the limit"
+        with pytest.raises(ValueError, match="refers to vertex"):
+            mvox.write(mesh, str(tmp_path / "wide.ply"))
+        assert not (tmp_path / "wide.ply").exists()

@@ -119,7 +119,8 @@ std::vector<std::int64_t> indices_of(const MeshArrays& arrays) {
 // `first`; its arrays.
 MeshArrays aligned_arrays_from(std::uint64_t first) {
   const std::string label = "mvox.extract";
-  AlignedArraysSink sink(WorldTransform(), kD, label, first);
+  const WorldTransform placement;  // the sink keeps a reference
+  AlignedArraysSink sink(placement, kD, label, first);
   static const test::BinaryVolume noise = test::noise_volume(kW, kH, kD, 11);
   EngineOptions options;
   WorkspaceBuffer workspace(engine_workspace_bytes(kW, kH, options));
@@ -166,6 +167,27 @@ TEST(VertexIndexWriters, ArraysTurnTo64BitIndicesPast2To31AndStayWholePast2To32)
       EXPECT_GT(past, 10000u) << "no index passed the limit from " << first;
     }
   }
+}
+
+// A slab's polygons come with their indices moved by an offset, modulo 2^32 (SlabReplay);
+// past 2^32 vertices each must land among the last 2^32 taken. Worked by hand: with 2^32 + 5000
+// taken, those are 5000 to 2^32 + 4999.
+TEST(VertexIndexWriters, WideIndicesAreMovedThenMadeWhole) {
+  MeshArrays arrays;
+  widen_indices(arrays);
+  Polygon polygon;
+  polygon.vertex_count = 3;
+  polygon.vertices[0] = 4000;                                       // + 1000: 5000
+  polygon.vertices[1] = static_cast<std::uint32_t>(k2to32 - 2000);  // 2^32 - 1000
+  polygon.vertices[2] = 10;                                         // 1010: 2^32 + 1010
+  polygon.vertices[3] = 0xdeadbeef;                                 // past the size
+  append_wide_polygons(arrays, &polygon, 1, 1000, k2to32 + 5000);
+  ASSERT_EQ(arrays.index_count(), 3u);
+  EXPECT_EQ(arrays.wide_polygon_indices.data()[0], 5000);
+  EXPECT_EQ(arrays.wide_polygon_indices.data()[1], static_cast<std::int64_t>(k2to32 - 1000));
+  EXPECT_EQ(arrays.wide_polygon_indices.data()[2], static_cast<std::int64_t>(k2to32 + 1010));
+  ASSERT_EQ(arrays.face_count(), 1u);
+  EXPECT_EQ(arrays.polygon_offsets.data()[1], 3);
 }
 
 TEST(VertexIndexWriters, StlCountsTo2To32) {

@@ -78,6 +78,8 @@ static_assert(sizeof(Polygon) == 32 && offsetof(Polygon, vertices) == 4 && kMaxP
 // sits at the same place in a block as `dest`, so that its blocks are the destination's.
 // Callers write up to 32 bytes at slot() (past what they keep), then advance() by what they
 // keep; finish() writes the rest with ordinary stores and orders the non-temporal ones.
+// `dest` must be aligned to sizeof(T), as every GrowableArray's elements are (malloc's 16
+// bytes, or a mapping's page), so that the stage's blocks fall on the destination's.
 template <class T>
 class StagedStream {
   static constexpr std::size_t kBlock = 32 / sizeof(T);    // numbers in a 32-byte block
@@ -125,10 +127,13 @@ class StagedStream {
 
 // A polygon's slots (lanes 1-7 of its 32 bytes, moved down to 0-6) in one 32-byte store, two
 // vertices' six floats (lanes 0-2 and 4-6, moved to 0-5) in one, all staged and streamed.
-// mvox.extract came 8% (engine) and 9% (MRbrain) faster so, against 16-byte ordinary stores.
+// mvox.extract came 7.6% (engine) and 9.5% (MRbrain) faster so, against 16-byte ordinary
+// stores (docs/benchmarks.md). Like the plain loop, it trusts each polygon's size to be 3 to
+// 7: MeshWriter checks it, and mvox.extract's own sink takes the engine's.
 __attribute__((target("avx2"))) void append_polygons_avx2(MeshArrays& arrays,
                                                           const Polygon* polygons,
                                                           std::size_t count) {
+  if (count == 0) return;  // an array never grown has no memory to stream into
   const __m256i slots_down = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 7);
   const std::size_t first_index = arrays.polygon_indices.size();
   const std::size_t first_face = arrays.polygon_offsets.size();
@@ -155,6 +160,7 @@ __attribute__((target("avx2"))) void append_polygons_avx2(MeshArrays& arrays,
 __attribute__((target("avx2"))) void append_vertex_positions_avx2(MeshArrays& arrays,
                                                                   const Vertex* vertices,
                                                                   std::size_t count) {
+  if (count == 0) return;
   const __m256i positions_down = _mm256_setr_epi32(0, 1, 2, 4, 5, 6, 7, 7);
   const std::size_t first = arrays.vertices.size();
   arrays.vertices.resize(first + 3 * count);
