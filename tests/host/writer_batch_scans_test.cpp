@@ -379,6 +379,39 @@ TEST(MeshArraysAppends, GiveWhatThePlainLoopsGiveBatchAfterBatch) {
                              plain.vertices.size() * sizeof(float)))
         << "batch " << batch;
   }
+  // Every place in a 32-byte block for a large batch to start, so that the staged appends
+  // flush from each: t leading triangles (3t indices) and t leading vertices (3t floats) put
+  // the next batch at each of the 8 places as t runs from 0 to 7, 3 being prime to 8.
+  for (int t = 0; t < 8; ++t) {
+    MeshArrays fast_t, plain_t;
+    std::vector<Polygon> lead = noisy_polygons(random, t);
+    for (Polygon& polygon : lead) polygon.vertex_count = 3;
+    std::vector<Polygon> polygons = noisy_polygons(random, 3000);
+    for (Polygon& polygon : polygons) polygon.vertex_count = 3 + random() % 5;
+    std::vector<Vertex> vertices(t + 3001);
+    for (Vertex& vertex : vertices) vertex.x = static_cast<float>(random());
+    for (MeshArrays* arrays : {&fast_t, &plain_t}) {
+      const bool fast_one = arrays == &fast_t;
+      (fast_one ? append_polygons : append_polygons_portable)(*arrays, lead.data(), lead.size());
+      (fast_one ? append_polygons : append_polygons_portable)(*arrays, polygons.data(),
+                                                              polygons.size());
+      (fast_one ? append_vertex_positions : append_vertex_positions_portable)(
+          *arrays, vertices.data(), static_cast<std::size_t>(t));
+      (fast_one ? append_vertex_positions : append_vertex_positions_portable)(
+          *arrays, vertices.data() + t, vertices.size() - t);
+    }
+    ASSERT_EQ(fast_t.polygon_indices.size(), plain_t.polygon_indices.size());
+    ASSERT_EQ(fast_t.vertices.size(), plain_t.vertices.size());
+    EXPECT_EQ(0, std::memcmp(fast_t.polygon_indices.data(), plain_t.polygon_indices.data(),
+                             plain_t.polygon_indices.size() * sizeof(std::int32_t)))
+        << t << " triangles ahead";
+    EXPECT_EQ(0, std::memcmp(fast_t.polygon_offsets.data(), plain_t.polygon_offsets.data(),
+                             plain_t.polygon_offsets.size() * sizeof(std::int64_t)))
+        << t << " triangles ahead";
+    EXPECT_EQ(0, std::memcmp(fast_t.vertices.data(), plain_t.vertices.data(),
+                             plain_t.vertices.size() * sizeof(float)))
+        << t << " vertices ahead";
+  }
   // The plain loops themselves: each polygon's own slots, each vertex's x, y and z.
   Polygon pentagon = noisy_polygons(random, 1)[0];
   pentagon.vertex_count = 5;
