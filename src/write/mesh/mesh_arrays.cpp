@@ -68,6 +68,19 @@ static_assert(sizeof(Vertex) == 4 * sizeof(float) && offsetof(Vertex, x) == 0 &&
               "x, y, z lead a 16-byte Vertex");
 static_assert(sizeof(Polygon::vertices[0]) == sizeof(std::int32_t), "indices are copied as bytes");
 
+// Grows the indices by seven a polygon (the most it can have; the caller cuts them back to
+// what it wrote) and the offsets by one a polygon. Returns where the first of each goes.
+template <class Index>
+std::pair<Index*, std::int64_t*> room_for_polygons(ArrayOf<Index>& indices,
+                                                   ArrayOf<std::int64_t>& offsets,
+                                                   std::size_t count) {
+  const std::size_t first_index = indices.size();
+  const std::size_t first_face = offsets.size();
+  indices.resize(first_index + count * kMaxPolygonVertices);
+  offsets.resize(first_face + count);
+  return {indices.data() + first_index, offsets.data() + first_face};
+}
+
 #if MVOX_MESH_ARRAYS_AVX2
 static_assert(sizeof(Polygon) == 32 && offsetof(Polygon, vertices) == 4 && kMaxPolygonVertices == 7,
               "a polygon is its count in 4 bytes, then seven 32-bit indices: one AVX2 load");
@@ -195,13 +208,8 @@ bool has_avx2() {
 }  // namespace
 
 void append_polygons_portable(MeshArrays& arrays, const Polygon* polygons, std::size_t count) {
-  const std::size_t first_index = arrays.polygon_indices.size();
-  const std::size_t first_face = arrays.polygon_offsets.size();
-  arrays.polygon_indices.resize(first_index + count * kMaxPolygonVertices);
-  arrays.polygon_offsets.resize(first_face + count);
-  std::int32_t* index = arrays.polygon_indices.data() + first_index;
-  std::int64_t* offset = arrays.polygon_offsets.data() + first_face;
-  std::int64_t at = static_cast<std::int64_t>(first_index);
+  std::int64_t at = static_cast<std::int64_t>(arrays.polygon_indices.size());  // before the room
+  auto [index, offset] = room_for_polygons(arrays.polygon_indices, arrays.polygon_offsets, count);
   for (std::size_t i = 0; i < count; ++i) {
     const Polygon& polygon = polygons[i];
     std::memcpy(index, polygon.vertices, sizeof polygon.vertices);  // < 2^31 (narrow): whole
@@ -235,12 +243,8 @@ void widen_indices(MeshArrays& arrays) {
 
 void append_wide_polygons(MeshArrays& arrays, const Polygon* polygons, std::size_t count,
                           std::uint32_t index_offset, std::uint64_t vertices_taken) {
-  const std::size_t first_index = arrays.wide_polygon_indices.size();
-  const std::size_t first_face = arrays.polygon_offsets.size();
-  arrays.wide_polygon_indices.resize(first_index + count * kMaxPolygonVertices);
-  arrays.polygon_offsets.resize(first_face + count);
-  std::int64_t* index = arrays.wide_polygon_indices.data() + first_index;
-  std::int64_t* offset = arrays.polygon_offsets.data() + first_face;
+  auto [index, offset] =
+      room_for_polygons(arrays.wide_polygon_indices, arrays.polygon_offsets, count);
   for (std::size_t i = 0; i < count; ++i) {
     const Polygon& polygon = polygons[i];
     for (int k = 0; k < polygon.vertex_count; ++k)
