@@ -159,6 +159,27 @@ TEST(EngineOutput, CountersAgreeWithTheEmittedMesh) {
   EXPECT_EQ(mesh.forward_references, 0u);
 }
 
+// The fast path counts polygons by size in one register's 16-bit lanes, spilled when a batch is
+// full, when a layer ends, and, in batches larger than a lane holds, between: a layer of this
+// noise has about 200,000 polygons, more than 65,535 of one size between two full batches of
+// 70,000 or 2^20. Every batch size gives the counts of the polygons emitted.
+TEST(EngineOutput, CountsBySizeHoldForEveryBatchSize) {
+  const auto volume = noise_volume(400, 400, 3, 9);
+  for (const std::uint32_t batch : {1u, 7u, 4096u, 70000u, 1u << 20}) {
+    EngineOptions options;
+    options.polygons_per_batch = batch;
+    EngineCounters counters;
+    const Mesh mesh = extract(volume, 128, options, &counters);
+    std::uint64_t by_size[8] = {};
+    for (const auto& polygon : mesh.polygons) ++by_size[polygon.size()];
+    ASSERT_GT(by_size[4], 2u * 65535u) << "too few quads to fill a lane";
+    for (int size = 0; size < 8; ++size)
+      EXPECT_EQ(counters.polygons_by_size[size], by_size[size])
+          << "size " << size << ", batch " << batch;
+    EXPECT_EQ(counters.polygons, mesh.polygons.size());
+  }
+}
+
 TEST(EngineOutput, VerticesCarryTheirAxisAndTheSideOfTheInnerVoxel) {
   BinaryVolume volume(7, 5, 6);  // odd, asymmetric: an axis swap cannot go unnoticed
   volume.at(3, 1, 4) = 1;
