@@ -14,22 +14,22 @@ AlignedArraysSink::AlignedArraysSink(const WorldTransform& placement, std::uint3
     identity_ = identity_ && placement.spacing[axis] == 1.0 && placement.origin[axis] == 0.0;
 }
 
-Status AlignedArraysSink::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
+template <class Take>
+Status AlignedArraysSink::caught(Take take) {
   try {
-    return take_vertices(vertices, vertex_count);
+    return take();
   } catch (...) {
     thrown_ = std::current_exception();
     return Status::sink_refused;
   }
 }
 
+Status AlignedArraysSink::consume_vertices(const Vertex* vertices, std::size_t vertex_count) {
+  return caught([&] { return take_vertices(vertices, vertex_count); });
+}
+
 Status AlignedArraysSink::consume_polygons(const Polygon* polygons, std::size_t polygon_count) {
-  try {
-    return take_polygons(polygons, polygon_count);
-  } catch (...) {
-    thrown_ = std::current_exception();
-    return Status::sink_refused;
-  }
+  return caught([&] { return take_polygons(polygons, polygon_count); });
 }
 
 void AlignedArraysSink::trim() {

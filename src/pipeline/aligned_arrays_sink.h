@@ -40,6 +40,9 @@ class AlignedArraysSink : public PolygonSink {
   void trim();
 
  private:
+  // take() run so that nothing leaves it: a throw is kept (thrown()) and refuses the batch.
+  template <class Take>
+  Status caught(Take take);
   Status take_vertices(const Vertex* vertices, std::size_t vertex_count);
   Status take_polygons(const Polygon* polygons, std::size_t polygon_count);
   template <class Array>

@@ -148,13 +148,11 @@ __attribute__((target("avx2"))) void append_polygons_avx2(MeshArrays& arrays,
                                                           std::size_t count) {
   if (count == 0) return;  // an array never grown has no memory to stream into
   const __m256i slots_down = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 7);
-  const std::size_t first_index = arrays.polygon_indices.size();
-  const std::size_t first_face = arrays.polygon_offsets.size();
-  arrays.polygon_indices.resize(first_index + count * kMaxPolygonVertices);
-  arrays.polygon_offsets.resize(first_face + count);
-  StagedStream<std::int32_t> indices(arrays.polygon_indices.data() + first_index);
-  StagedStream<std::int64_t> offsets(arrays.polygon_offsets.data() + first_face);
-  std::int64_t at = static_cast<std::int64_t>(first_index);
+  std::int64_t at = static_cast<std::int64_t>(arrays.polygon_indices.size());  // before the room
+  const auto [first_index, first_offset] =
+      room_for_polygons(arrays.polygon_indices, arrays.polygon_offsets, count);
+  StagedStream<std::int32_t> indices(first_index);
+  StagedStream<std::int64_t> offsets(first_offset);
   for (std::size_t i = 0; i < count; ++i) {
     __m256i lanes;
     std::memcpy(&lanes, &polygons[i], sizeof lanes);
