@@ -83,6 +83,7 @@ add line-stl '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.stl --im
 add line-obj '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.obj --normals -q'
 add small-stl-placed '$MVOX extract $IN/small.raw --raw 24x20x50:u8 -t 128 -o m.stl --spacing 0.3,0.7,2.5 --origin -12.5,3.25,0.001 -q'
 add small-stl-mirrored '$MVOX extract $IN/small_mirrored.nhdr -t 128 -o m.stl -q'
+add small-ascii-mirrored '$MVOX extract $IN/small_mirrored.nhdr -t 128 -o m.ply --ascii --normals -q'
 add small-tri-mirrored '$MVOX extract $IN/small_mirrored.nhdr -t 128 -o m.ply --triangulate --normals -q'
 add line-tri '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply --triangulate --spacing 1,2,0.5 -q'
 add line-cubes '$MVOX extract $IN/line.raw --raw 1x1x20000:u8 -t 128 -o m.ply --method cubes --normals --stats s.json -q'
@@ -104,6 +105,8 @@ add odd-i16le '$MVOX extract $IN/odd.raw --raw 3x5x3000:i16le -t 100 -o m.ply --
 add odd-pipe 'cat $IN/odd.raw | $MVOX extract /dev/stdin --raw 3x5x3000:u16be -t 30000 -o m.ply -q'
 add float '$MVOX extract $IN/float.raw --raw 2x3x2000:f32le -t 0 -o m.ply --normals --stats s.json -q'
 add mid '$MVOX extract $IN/mid.raw --raw 64x64x300:u8 -t 128 -o m.ply --normals --image p.png --stats s.json -q'
+add mid-obj '$MVOX extract $IN/mid.raw --raw 64x64x300:u8 -t 128 -o m.obj --normals --spacing 0.3,0.7,2.5 --origin -12.5,3.25,0.001 -q'
+add mid-ascii '$MVOX extract $IN/mid.raw --raw 64x64x300:u8 -t 128 -o m.ply --ascii --normals -q'
 add mid-pipe 'cat $IN/mid.raw | $MVOX extract /dev/stdin --raw 64x64x300:u8 -t 128 -o m.ply -q'
 add big '$MVOX extract $IN/big.raw --raw 300x200x6:u8 -t 128 -o m.ply --image p.png --stats s.json -q'
 add sphere '$MVOX extract $IN/sphere -t 128 -o m.ply --normals --image p.png --stats s.json -q'
@@ -116,6 +119,7 @@ if [ -d "$datasets/cthead" ]; then
 fi
 if [ -d "$datasets/engine" ]; then
   add engine '$MVOX extract $DATA/engine/engine_256x256x128_uint8.raw --raw 256x256x128:u8 -t 100 -o m.ply --normals --image p.png --stats s.json -q'
+  add engine-obj '$MVOX extract $DATA/engine/engine_256x256x128_uint8.raw --raw 256x256x128:u8 -t 100 -o m.obj --normals --spacing 0.9,0.9,1.3 -q'
 fi
 if [ -d "$datasets/mrbrain8bit" ]; then
   add mrbrain '$MVOX extract "$DATA/mrbrain8bit/mrbrain-8bit*.png" -t 50 --spacing 1,1,2 -o m.ply --image p.png --stats s.json -q'

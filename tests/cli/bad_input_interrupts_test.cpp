@@ -146,7 +146,9 @@ TEST_F(BadInput, AnErrorWhileSlabThreadsReadAnOpenPipeEndsTheRunAtOnce) {
   MvoxProcess mvox(job, dir_.path());
   FifoWriter fifo(dir_ / "volume.raw");
   // Six slices of noise: the first slab's OBJ text fills the writer's buffer many times over,
-  // and the reader has given the second slab all it has.
+  // and the reader has given the second slab all it has. A writer fast enough fails on the full
+  // device before the last slices are taken: the pipe then breaks while it is still open here,
+  // which ends the run at once just the same, and the slices left are not written.
   std::uint64_t state = 11;
   for (int z = 0; z < 6; ++z) {
     std::string slice(kSide * kSide, '\0');
@@ -154,7 +156,7 @@ TEST_F(BadInput, AnErrorWhileSlabThreadsReadAnOpenPipeEndsTheRunAtOnce) {
       state = state * 6364136223846793005ull + 1442695040888963407ull;
       c = static_cast<char>(state >> 56);
     }
-    ASSERT_TRUE(fifo.write(slice)) << "slice " << z;
+    if (!fifo.write(slice)) break;
   }
   // finish() fails the test if mvox takes 60 s: it would wait for the FIFO to close.
   const MvoxProcess::Ending ending = mvox.finish();

@@ -1,20 +1,31 @@
 #include "write/mesh/obj_writer.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
+
+#include "write/buffered_writer.h"
 
 namespace mvox {
 namespace {
 
-char* put_floats(char* out, char* end, const char* keyword, const float* values) {
+// Vertex lines are written a run at a time straight into the file's buffer: "v", then per
+// coordinate a space and its text (FloatTexts::put may write kRoom bytes), and the newline;
+// the same with "vn" after it for normals.
+constexpr std::size_t kMostLineBytes = 2 + 3 * (1 + FloatTexts::kRoom) + 1;
+
+char* put_floats(char* out, const char* keyword, const float* values, FloatTexts& texts) {
   while (*keyword) *out++ = *keyword++;
   for (int i = 0; i < 3; ++i) {
     *out++ = ' ';
-    out = std::to_chars(out, end, values[i]).ptr;
+    out = texts.put(out, values[i]);
   }
   *out++ = '\n';
   return out;
 }
+
+// "f", then per vertex a space and "I" or "I//I" with I of at most 20 digits, and the newline.
+constexpr std::size_t kMostFaceBytes = 1 + kMaxPolygonVertices * (1 + 20 + 2 + 20) + 1;
 
 }  // namespace
 
@@ -33,43 +44,52 @@ ObjWriter::ObjWriter(const std::string& path, const MeshWriterOptions& options)
 
 void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_count) {
   const bool with_normals = options().writes_normals();
-  for (std::size_t i = 0; i < vertex_count; ++i) {
-    // "vn" and three floats of at most 15 characters each, twice.
-    char lines[2 * (2 + 3 * 16 + 1)];
-    char* end = put_floats(lines, lines + sizeof lines, "v", vertices[i].position);
-    if (with_normals) end = put_floats(end, lines + sizeof lines, "vn", vertices[i].normal);
-    out_.write(lines, static_cast<std::size_t>(end - lines));
+  const std::size_t most_bytes = (with_normals ? 2 : 1) * kMostLineBytes;
+  const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
+  for (std::size_t first = 0; first < vertex_count; first += per_run) {
+    const std::size_t count = std::min(per_run, vertex_count - first);
+    char* const begin = out_.reserve(count * most_bytes);
+    char* out = begin;
+    for (std::size_t i = first; i < first + count; ++i) {
+      out = put_floats(out, "v", vertices[i].position, texts_);
+      if (with_normals) out = put_floats(out, "vn", vertices[i].normal, texts_);
+    }
+    out_.commit(static_cast<std::size_t>(out - begin));
   }
 }
 
 void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
-                           std::uint32_t index_offset) {
+                            std::uint32_t index_offset) {
   const bool with_normals = options().writes_normals();
-  for (std::size_t i = 0; i < face_count; ++i) {
-    const Polygon& face = faces[i];
-    // "f", then per vertex a space and "I" or "I//I", I of at most 20 digits, and the newline.
-    char line[1 + kMaxPolygonVertices * 43 + 1];
-    std::size_t used = 0;
-    line[used++] = 'f';
-    for (int k = 0; k < face.vertex_count; ++k) {
-      // OBJ counts from 1, in as many digits as the whole index takes (past 2^32 too).
-      char digits[20];
-      const std::uint64_t index =
-          whole_vertex_index(face.vertices[k] + index_offset, vertices_written()) + 1;
-      const std::size_t length = static_cast<std::size_t>(
-          std::to_chars(digits, digits + sizeof digits, index).ptr - digits);
-      line[used++] = ' ';
-      std::memcpy(line + used, digits, length);
-      used += length;
-      if (with_normals) {
-        line[used++] = '/';
-        line[used++] = '/';
-        std::memcpy(line + used, digits, length);
-        used += length;
+  const std::size_t per_run = BufferedWriter::kBufferBytes / kMostFaceBytes;
+  for (std::size_t first = 0; first < face_count; first += per_run) {
+    const std::size_t count = std::min(per_run, face_count - first);
+    char* const begin = out_.reserve(count * kMostFaceBytes);
+    char* out = begin;
+    for (std::size_t i = first; i < first + count; ++i) {
+      const Polygon& face = faces[i];
+      // MeshWriter checked every face; checked again so that the run provably fits its room.
+      if (face.vertex_count > kMaxPolygonVertices)
+        throw Error(subject(), "internal error: face too large");
+      *out++ = 'f';
+      for (int k = 0; k < face.vertex_count; ++k) {
+        // OBJ counts from 1, in as many digits as the whole index takes (past 2^32 too).
+        const std::uint64_t index =
+            whole_vertex_index(face.vertices[k] + index_offset, vertices_written()) + 1;
+        *out++ = ' ';
+        char* const digits = out;
+        out = std::to_chars(out, out + 20, index).ptr;
+        if (with_normals) {
+          const std::size_t length = static_cast<std::size_t>(out - digits);
+          *out++ = '/';
+          *out++ = '/';
+          std::memcpy(out, digits, length);
+          out += length;
+        }
       }
+      *out++ = '\n';
     }
-    line[used++] = '\n';
-    out_.write(line, used);
+    out_.commit(static_cast<std::size_t>(out - begin));
   }
 }
 

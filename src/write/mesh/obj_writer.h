@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <string>
 
+#include "write/mesh/float_texts.h"
 #include "write/mesh/mesh_writer.h"
 #include "write/output_file.h"
 
@@ -35,6 +36,7 @@ class ObjWriter final : public MeshWriter {
   void complete_file() override;
 
   OutputFile out_;
+  FloatTexts texts_;
 };
 
 }  // namespace mvox

@@ -72,6 +72,7 @@ PlyWriter::PlyWriter(const std::string& path, PlyWriterOptions options)
       format_(options.format),
       out_(path, options.sync),
       faces_(out_.scratch_directory(), out_.subject()) {
+  if (format_ == PlyFormat::ascii) texts_.emplace();
   if (options.part) {
     // A part has no header: its vertices, then its faces.
   } else if (out_.can_overwrite()) {
@@ -96,18 +97,24 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
                                   std::size_t vertex_count) {
   const int fields = options().writes_normals() ? 6 : 3;
   if (format_ == PlyFormat::ascii) {
-    for (std::size_t i = 0; i < vertex_count; ++i) {
-      const WorldVertex& vertex = vertices[i];
-      const float written[6] = {vertex.position[0], vertex.position[1], vertex.position[2],
-                                vertex.normal[0],   vertex.normal[1],   vertex.normal[2]};
-      // Shortest representation that reads back to the same float.
-      char line[128];
-      char* end = line;
-      for (int field = 0; field < fields; ++field) {
-        end = std::to_chars(end, line + sizeof line, written[field]).ptr;
-        *end++ = field + 1 < fields ? ' ' : '\n';
+    // A run of lines at a time, straight into the sink's buffer: each field's text (put() may
+    // write FloatTexts::kRoom bytes), followed by a space or the newline.
+    const std::size_t most_bytes = static_cast<std::size_t>(fields) * (FloatTexts::kRoom + 1);
+    const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
+    for (std::size_t first = 0; first < vertex_count; first += per_run) {
+      const std::size_t count = std::min(per_run, vertex_count - first);
+      char* const begin = static_cast<char*>(sink.reserve(count * most_bytes));
+      char* out = begin;
+      for (std::size_t i = first; i < first + count; ++i) {
+        const WorldVertex& vertex = vertices[i];
+        const float written[6] = {vertex.position[0], vertex.position[1], vertex.position[2],
+                                  vertex.normal[0],   vertex.normal[1],   vertex.normal[2]};
+        for (int field = 0; field < fields; ++field) {
+          out = texts_->put(out, written[field]);
+          *out++ = field + 1 < fields ? ' ' : '\n';
+        }
       }
-      sink.write(line, static_cast<std::size_t>(end - line));
+      sink.commit(static_cast<std::size_t>(out - begin));
     }
     return;
   }
@@ -117,22 +124,27 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
 void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
                             std::uint32_t index_offset) {
   if (format_ == PlyFormat::ascii) {
-    for (std::size_t i = 0; i < face_count; ++i) {
-      const Polygon& face = faces[i];
-      const int count = face.vertex_count;
-      // MeshWriter checked every face; checked again so the line below provably fits.
-      if (count > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
-      // "7" and seven indices of at most 10 digits (below 2^32: vertex_limit), each after a
-      // space, and the newline.
-      char line[1 + kMaxPolygonVertices * 11 + 1];
-      char* end = line;
-      *end++ = static_cast<char>('0' + count);
-      for (int k = 0; k < count; ++k) {
-        *end++ = ' ';
-        end = std::to_chars(end, line + sizeof line, face.vertices[k] + index_offset).ptr;
+    // "7" and seven indices of at most 10 digits (below 2^32: vertex_limit), each after a
+    // space, and the newline; a run of lines at a time, straight into the buffer.
+    constexpr std::size_t kMostLineBytes = 1 + kMaxPolygonVertices * 11 + 1;
+    constexpr std::size_t kPerRun = BufferedWriter::kBufferBytes / kMostLineBytes;
+    for (std::size_t first = 0; first < face_count; first += kPerRun) {
+      const std::size_t count = std::min(kPerRun, face_count - first);
+      char* const begin = faces_.reserve(count * kMostLineBytes);
+      char* out = begin;
+      for (std::size_t i = first; i < first + count; ++i) {
+        const Polygon& face = faces[i];
+        const int corners = face.vertex_count;
+        // MeshWriter checked every face; checked again so that the run provably fits its room.
+        if (corners > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
+        *out++ = static_cast<char>('0' + corners);
+        for (int k = 0; k < corners; ++k) {
+          *out++ = ' ';
+          out = std::to_chars(out, out + 10, face.vertices[k] + index_offset).ptr;
+        }
+        *out++ = '\n';
       }
-      *end++ = '\n';
-      faces_.write(line, static_cast<std::size_t>(end - line));
+      faces_.commit(static_cast<std::size_t>(out - begin));
     }
     return;
   }

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "write/mesh/float_texts.h"
 #include "write/mesh/mesh_writer.h"
 #include "write/output_file.h"
 #include "write/scratch_file.h"
@@ -28,7 +29,8 @@ struct PlyWriterOptions : MeshWriterOptions {
 // (padded to its exact size with a "comment" line of spaces just before end_header) and commits.
 // For an output that cannot be overwritten (standard output, a pipe) the vertices wait in a
 // ScratchFile too, and the file is written in order by finish(). Memory: two write buffers and a
-// copy buffer (about 3 MiB), whatever the mesh size.
+// copy buffer (about 3 MiB), and for ASCII the texts of recent floats (float_texts.h, 192 KiB),
+// whatever the mesh size.
 class PlyWriter final : public MeshWriter {
  public:
   // Creates the temporary files. Throws mvox::Error (e.g. "out/mesh.ply: cannot create file:
@@ -65,6 +67,7 @@ class PlyWriter final : public MeshWriter {
   OutputFile out_;
   std::optional<ScratchFile> vertex_spool_;  // only when out_ cannot be overwritten
   ScratchFile faces_;
+  std::optional<FloatTexts> texts_;  // ASCII only
   std::uint64_t part_face_bytes_ = 0;
 };
 
