@@ -77,15 +77,23 @@ void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
         const std::uint64_t index =
             whole_vertex_index(face.vertices[k] + index_offset, vertices_written()) + 1;
         *out++ = ' ';
-        char* const digits = out;
-        out = std::to_chars(out, out + 20, index).ptr;
-        if (with_normals) {
-          const std::size_t length = static_cast<std::size_t>(out - digits);
-          *out++ = '/';
-          *out++ = '/';
-          std::memcpy(out, digits, length);
-          out += length;
+        if (!with_normals) {
+          out = std::to_chars(out, out + 20, index).ptr;
+          continue;
         }
+        // "I//I": the digits made once, and copied as all 20 bytes an index has room for, a
+        // copy of fixed size that the compiler inlines; the bytes past the digits are
+        // overwritten or not committed.
+        char digits[20];
+        const std::size_t length =
+            static_cast<std::size_t>(std::to_chars(digits, digits + sizeof digits, index).ptr -
+                                     digits);
+        std::memcpy(out, digits, sizeof digits);
+        out += length;
+        *out++ = '/';
+        *out++ = '/';
+        std::memcpy(out, digits, sizeof digits);
+        out += length;
       }
       *out++ = '\n';
     }
