@@ -178,8 +178,10 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     slabs.normals = job.normals;
     slabs.smooth_picture = picture && job.picture.smooth;
     if (own_range_reader(source)) slabs.reader_bytes = source.working_bytes();
-    if (!job.output.empty())
+    if (!job.output.empty()) {
       slabs.formatted_bytes_per_polygon = formatted_bytes_per_polygon(job.format);
+      slabs.formatted_bytes_per_vertex = formatted_bytes_per_vertex(job.format, job.normals);
+    }
     plan.add(std::to_string(threads) + " slab workers (workspace, slices, window, recorded output)",
              slab_pipeline_bytes(info, engine, slabs));
     if (picture)  // and the picture's own slab numbers, once the layers are composited

@@ -26,8 +26,10 @@
 #include "read/range_readable.h"
 #include "read/read_buffer.h"
 #include "read/read_cancellation.h"
+#include "write/mesh/float_texts.h"
 #include "write/mesh/mesh_format.h"
 #include "write/mesh/mesh_writer.h"
+#include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
 namespace {
@@ -40,9 +42,7 @@ struct SlabCuts {
 
   std::uint32_t count() const { return (depth + slab_slices - 1) / slab_slices; }
   std::uint32_t first(std::uint32_t slab) const { return slab * slab_slices; }
-  std::uint32_t end(std::uint32_t slab) const {
-    return std::min(depth, first(slab) + slab_slices);
-  }
+  std::uint32_t end(std::uint32_t slab) const { return std::min(depth, first(slab) + slab_slices); }
   SlabSpan span(std::uint32_t slab) const {
     return SlabSpan::of(first(slab), end(slab), depth, normals);
   }
@@ -76,6 +76,8 @@ struct Worker {
   std::unique_ptr<PictureLayer> layer;  // with a picture: this worker's slabs drawn
   // The mesh writer's, when it has one: formats this worker's faces ahead of its turn.
   std::unique_ptr<FaceFormatter> formatter;
+  // The writer's vertex lines, for a text format: formatted by the worker for recorded slabs.
+  std::unique_ptr<VertexTextFormatter> vertex_text;
   std::thread thread;
   double read_seconds = 0;   // inside its own slab readers
   double write_seconds = 0;  // inside the mesh writer, writing its output straight
@@ -127,8 +129,8 @@ void read_slices(SliceSource& source, const SlabCuts& cuts,
   }
   SliceView extra;
   if (source.next_slice(&extra))
-    throw Error(input_label, "has more slices than the " + std::to_string(cuts.depth) +
-                                 " its header gives");
+    throw Error(input_label,
+                "has more slices than the " + std::to_string(cuts.depth) + " its header gives");
 }
 
 // A worker's slab slices as the reading thread hands them out.
@@ -157,17 +159,17 @@ class HandedOutSlices final : public SlabSlices {
 };
 
 // Runs the engine over every slab this worker takes: slabs w, w + threads, ...
-void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
-                   const SlabCuts& cuts, const VolumeInfo& info, double threshold,
-                   const EngineOptions& options, const VertexPlacement* placement,
-                   bool mesh_normals, const RangeReadable* ranges, SlabWriteTurns& turns,
-                   SlabRunFailure& failure, const std::string& input_label) {
+void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads, const SlabCuts& cuts,
+                   const VolumeInfo& info, double threshold, const EngineOptions& options,
+                   const VertexPlacement* placement, bool mesh_normals, const RangeReadable* ranges,
+                   SlabWriteTurns& turns, SlabRunFailure& failure, const std::string& input_label) {
   const Cancellation& cancellation = failure.cancellation();
   const VertexNormals* normals =
       worker.normals && mesh_normals ? &worker.normals->normals() : nullptr;
   SliceWindow* window = worker.normals ? &worker.normals->window() : nullptr;
   SlabRecorder recorder(turns.handover(index), placement, normals,
-                        options.polygon_geometry && placement, worker.formatter.get());
+                        options.polygon_geometry && placement, worker.formatter.get(),
+                        worker.vertex_text.get());
   PolygonSink* drawing = worker.layer ? &worker.layer->sink() : nullptr;
   struct CountWrites {
     Worker& worker;
@@ -200,8 +202,8 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads,
       slices = &handed.emplace(worker, info, input_label);
     }
     const bool went_on = extract_slab(span, info, threshold, options, worker.workspace.data(),
-                                      worker.workspace.bytes(), recorder, drawing, window,
-                                      *slices, cancellation, input_label);
+                                      worker.workspace.bytes(), recorder, drawing, window, *slices,
+                                      cancellation, input_label);
     if (own) worker.read_seconds += own->read_seconds();
     if (!went_on) return;
   }
@@ -250,17 +252,19 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                                               options.needs_window())} *
                  slice) +
       (options.needs_window() ? kSliceWindowDepth * slice : 0) +
-      kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon) +
-      // A worker's FaceFormatter is a MeshWriter with the batches of one.
+      kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon,
+                                                   options.formatted_bytes_per_vertex) +
+      // A worker's FaceFormatter is a MeshWriter with the batches of one; its
+      // VertexTextFormatter has texts of floats of its own.
       (options.formatted_bytes_per_polygon > 0 ? kMeshWriterBatchBytes : 0) +
+      (options.formatted_bytes_per_vertex > 0 ? FloatTexts::kBytes : 0) +
       (options.normals ? std::uint64_t{engine.vertices_per_batch} * sizeof(glm::vec3) : 0);
   return per_worker * options.threads;
 }
 
-PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
-                                 const EngineOptions& engine, MeshWriter* mesh,
-                                 const SlabOptions& options, const std::string& input_label,
-                                 const ProgressCallback& progress) {
+PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const EngineOptions& engine,
+                                 MeshWriter* mesh, const SlabOptions& options,
+                                 const std::string& input_label, const ProgressCallback& progress) {
   const VolumeInfo& info = source.info();
   PipelineResult result;
   result.workspace_bytes = engine_workspace_bytes(info.width, info.height, engine);
@@ -277,8 +281,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   // slices that two slabs with normals share interleaved, so two take turns instead.
   std::uint32_t threads = std::clamp(options.threads, 1u, std::max(1u, cuts.count()));
   if (threads == 1 && window && !ranges && cuts.count() > 1) threads = 2;
-  const std::size_t slice_bytes =
-      std::size_t{info.width} * info.height * sample_bytes(info.type);
+  const std::size_t slice_bytes = std::size_t{info.width} * info.height * sample_bytes(info.type);
 
   std::vector<std::unique_ptr<Worker>> workers;
   std::unique_ptr<SlabWriteTurns> turns;
@@ -290,9 +293,12 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
   std::unique_ptr<FaceFormatter> probe =
       mesh && engine.polygon_geometry ? mesh->face_formatter() : nullptr;
   const std::size_t formatted_bytes = probe ? probe->most_bytes_per_polygon() : 0;
+  std::unique_ptr<VertexTextFormatter> vertex_probe =
+      mesh ? mesh->vertex_text_formatter() : nullptr;
+  const std::size_t vertex_text_bytes = vertex_probe ? vertex_probe->most_bytes_per_vertex() : 0;
   turns = std::make_unique<SlabWriteTurns>(
       mesh, cuts.count(), threads, engine, failure.cancellation(), [&failure] { failure.cancel(); },
-      formatted_bytes);
+      formatted_bytes, vertex_text_bytes);
   for (std::uint32_t w = 0; w < threads; ++w) {
     // Workers that read their own slices need no slice buffers from the fan-out.
     const std::uint32_t buffers = ranges ? 0 : slab_buffer_slices(cuts.slab_slices, window);
@@ -300,10 +306,12 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
                                                result.workspace_bytes));
     Worker& worker = *workers.back();
     if (probe) worker.formatter = w == 0 ? std::move(probe) : mesh->face_formatter();
+    if (vertex_probe)
+      worker.vertex_text = w == 0 ? std::move(vertex_probe) : mesh->vertex_text_formatter();
     if (window) worker.normals.emplace(info, options.spacing, input_label);
     if (options.picture)
-      worker.layer = options.picture->new_layer(worker.normals ? &worker.normals->normals()
-                                                                : nullptr);
+      worker.layer =
+          options.picture->new_layer(worker.normals ? &worker.normals->normals() : nullptr);
   }
 
   const auto start = Clock::now();

@@ -34,8 +34,8 @@ class MeshWriter;
 class SurfacePicture;
 
 struct SlabOptions {
-  unsigned threads = 2;            // extracting workers, >= 1
-  std::uint32_t slab_slices = 0;   // slices per slab; 0: default_slab_slices()
+  unsigned threads = 2;           // extracting workers, >= 1
+  std::uint32_t slab_slices = 0;  // slices per slab; 0: default_slab_slices()
   // Gradient normals, computed in each slab (the writer must have normals_given) with the voxel
   // size the mesh is written with.
   bool normals = false;
@@ -54,6 +54,10 @@ struct SlabOptions {
   // mesh writer has a face formatter (MeshWriter::face_formatter: STL) whose records the
   // workers then keep; else 0. run_slab_pipeline() asks the writer itself.
   std::size_t formatted_bytes_per_polygon = 0;
+  // For slab_pipeline_bytes(): formatted_bytes_per_vertex() of the mesh's format, when the mesh
+  // writer has a VertexTextFormatter (MeshWriter::vertex_text_formatter: OBJ, ASCII PLY), whose
+  // lines the workers then keep; else 0. run_slab_pipeline() asks the writer itself.
+  std::size_t formatted_bytes_per_vertex = 0;
 };
 
 class RangeReadable;
@@ -98,9 +102,9 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
 // mvox::Error naming `input_label` for an engine error, a source that ends before its depth, or
 // whatever the source throws; the writer's own error is left in the writer (status
 // sink_refused), as run_pipeline() leaves it.
-PipelineResult run_slab_pipeline(SliceSource& source, double threshold,
-                                 const EngineOptions& engine, MeshWriter* mesh,
-                                 const SlabOptions& options, const std::string& input_label,
+PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const EngineOptions& engine,
+                                 MeshWriter* mesh, const SlabOptions& options,
+                                 const std::string& input_label,
                                  const ProgressCallback& progress = {});
 
 }  // namespace mvox

@@ -31,24 +31,30 @@ std::size_t capacity_for(std::uint32_t batch) {
   return SlabRecorder::kChunkBytes / sizeof(T) + batch;
 }
 
+// The shortest vertex line a text format makes: ASCII PLY's "0 0 0\n".
+constexpr std::size_t kShortestVertexText = 6;
+
 // Every call counts its own size in SlabChunk::bytes(), and a call of the engine's batches at
 // least one vertex or polygon too (the engine sends no empty batch); a vertex_count call keeps
-// nothing else. A chunk handed on at kChunkBytes holds fewer calls than that many bytes allow,
-// and the geometry that follows its last polygon batch.
-std::size_t calls_capacity(bool formatted) {
+// nothing else, a formatted_vertices call one line at least. A chunk handed on at kChunkBytes
+// holds fewer calls than that many bytes allow, and the geometry that follows its last polygon
+// batch.
+std::size_t calls_capacity(bool formatted_faces, bool formatted_vertices) {
+  const std::size_t smallest_vertex = formatted_vertices ? kShortestVertexText : sizeof(Vertex);
   const std::size_t smallest =
-      sizeof(SlabChunk::Call) + (formatted ? 0 : std::min(sizeof(Vertex), sizeof(Polygon)));
+      sizeof(SlabChunk::Call) + (formatted_faces ? 0 : std::min(smallest_vertex, sizeof(Polygon)));
   return SlabRecorder::kChunkBytes / smallest + 3;
 }
 
-// A formatted_faces call keeps one triangle at least.
-std::size_t formatted_runs_capacity() {
-  return SlabRecorder::kChunkBytes / (sizeof(SlabChunk::Call) + kStlTriangleBytes) + 3;
+// A formatted_faces call keeps one triangle at least, a formatted_vertices call one line.
+std::size_t formatted_runs_capacity(bool formatted_vertices) {
+  const std::size_t smallest = formatted_vertices ? kShortestVertexText : kStlTriangleBytes;
+  return SlabRecorder::kChunkBytes / (sizeof(SlabChunk::Call) + smallest) + 3;
 }
 
-// Room for a chunk of formatted records and one polygon batch's more.
-std::size_t formatted_capacity(const EngineOptions& engine, std::size_t bytes_per_polygon) {
-  return SlabRecorder::kChunkBytes + engine.polygons_per_batch * bytes_per_polygon;
+// Room for a chunk of formatted records and one batch's more.
+std::size_t formatted_capacity(std::uint32_t batch, std::size_t bytes_per_item) {
+  return SlabRecorder::kChunkBytes + batch * bytes_per_item;
 }
 
 }  // namespace
@@ -57,31 +63,46 @@ std::size_t formatted_capacity(const EngineOptions& engine, std::size_t bytes_pe
 // polygon batch. It keeps the engine's batches only for a slab whose formatter refused one (or
 // a vertex out of float's range), which the writer then refuses in turn: those arrays are not
 // reserved and grow if that happens, in a run that fails.
-void SlabChunk::reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon) {
+void SlabChunk::reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon,
+                        std::size_t formatted_bytes_per_vertex) {
   const bool formatting = formatted_bytes_per_polygon > 0;
-  calls.reserve(calls_capacity(formatting));
+  const bool vertex_text = formatted_bytes_per_vertex > 0;
+  calls.reserve(calls_capacity(formatting, vertex_text));
   if (formatting) {
     polygons.reserve(engine.polygons_per_batch);
-    formatted.reserve_capacity(formatted_capacity(engine, formatted_bytes_per_polygon));
-    formatted_runs.reserve(formatted_runs_capacity());
+    formatted.reserve_capacity(
+        formatted_capacity(engine.polygons_per_batch, formatted_bytes_per_polygon));
+    formatted_runs.reserve(formatted_runs_capacity(false));
     return;
   }
-  placed.reserve(capacity_for<WorldVertex>(engine.vertices_per_batch));
+  if (vertex_text) {
+    formatted.reserve_capacity(
+        formatted_capacity(engine.vertices_per_batch, formatted_bytes_per_vertex));
+    formatted_runs.reserve(formatted_runs_capacity(true));
+  } else {
+    placed.reserve(capacity_for<WorldVertex>(engine.vertices_per_batch));
+  }
   polygons.reserve(capacity_for<Polygon>(engine.polygons_per_batch));
   if (engine.polygon_geometry)
     geometry.reserve(capacity_for<PolygonGeometry>(engine.polygons_per_batch));
 }
 
 std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine,
-                                      std::size_t formatted_bytes_per_polygon) {
+                                      std::size_t formatted_bytes_per_polygon,
+                                      std::size_t formatted_bytes_per_vertex) {
   const bool formatting = formatted_bytes_per_polygon > 0;
-  std::size_t bytes = calls_capacity(formatting) * sizeof(SlabChunk::Call);
+  const bool vertex_text = formatted_bytes_per_vertex > 0;
+  std::size_t bytes = calls_capacity(formatting, vertex_text) * sizeof(SlabChunk::Call);
   if (formatting)
     return bytes + std::size_t{engine.polygons_per_batch} * sizeof(Polygon) +
-           formatted_capacity(engine, formatted_bytes_per_polygon) +
-           formatted_runs_capacity() * sizeof(FormattedRun);
-  bytes += capacity_for<WorldVertex>(engine.vertices_per_batch) * sizeof(WorldVertex) +
-           capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
+           formatted_capacity(engine.polygons_per_batch, formatted_bytes_per_polygon) +
+           formatted_runs_capacity(false) * sizeof(FormattedRun);
+  if (vertex_text)
+    bytes += formatted_capacity(engine.vertices_per_batch, formatted_bytes_per_vertex) +
+             formatted_runs_capacity(true) * sizeof(FormattedRun);
+  else
+    bytes += capacity_for<WorldVertex>(engine.vertices_per_batch) * sizeof(WorldVertex);
+  bytes += capacity_for<Polygon>(engine.polygons_per_batch) * sizeof(Polygon);
   if (engine.polygon_geometry)
     bytes += capacity_for<PolygonGeometry>(engine.polygons_per_batch) * sizeof(PolygonGeometry);
   return bytes;
@@ -89,12 +110,13 @@ std::size_t SlabChunk::reserved_bytes(const EngineOptions& engine,
 
 SlabRecorder::SlabRecorder(Handover& handover, const VertexPlacement* placement,
                            const VertexNormals* normals, bool geometry_follows,
-                           FaceFormatter* formatter)
+                           FaceFormatter* formatter, VertexTextFormatter* vertex_text)
     : handover_(handover),
       placement_(placement),
       normals_(normals),
       geometry_follows_(geometry_follows),
-      formatter_(placement ? formatter : nullptr) {}
+      formatter_(placement ? formatter : nullptr),
+      vertex_text_(placement ? vertex_text : nullptr) {}
 
 bool SlabRecorder::start(std::uint64_t shared_vertices) {
   own_only_ = false;
@@ -158,6 +180,24 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
         return after_call() ? Status::ok : Status::sink_refused;
       }
       formatting_ = false;
+    }
+    if (vertex_text_) {
+      if (placed_batch_.size() < count) placed_batch_.resize(count);
+      if (placement_->place(vertices, normals, count, placed_batch_.data()) == count) {
+        SlabChunk& chunk = *chunk_;
+        const std::size_t bytes_before = chunk.formatted.size();
+        vertex_text_->format(placed_batch_.data(), count, chunk.formatted);
+        chunk.calls.push_back(
+            {SlabChunk::Kind::formatted_vertices, own_only_, static_cast<std::uint32_t>(count)});
+        chunk.formatted_runs.push_back(
+            {static_cast<std::uint32_t>(count),
+             static_cast<std::uint32_t>(chunk.formatted.size() - bytes_before)});
+        return after_call() ? Status::ok : Status::sink_refused;
+      }
+      // A vertex outside float's range: kept as the engine made it, for the writer to refuse.
+      record(SlabChunk::Kind::vertices, chunk_->vertices, vertices, count);
+      if (normals) chunk_->normals.insert(chunk_->normals.end(), normals, normals + count);
+      return after_call() ? Status::ok : Status::sink_refused;
     }
     const std::size_t first = chunk_->placed_count;
     // Room was reserved for a full chunk and one batch more (SlabChunk::reserve); grown only
@@ -266,8 +306,7 @@ void SlabJoin::relocate(Polygon* polygons, std::uint32_t count, bool own_only) c
   const auto shared = static_cast<std::uint32_t>(shared_);
   const auto to_shared = static_cast<std::uint32_t>(shared_base_) - own;
   for (std::uint32_t i = 0; i < count; ++i)
-    for (std::uint32_t& slot : polygons[i].vertices)
-      slot += own + (slot < shared ? to_shared : 0u);
+    for (std::uint32_t& slot : polygons[i].vertices) slot += own + (slot < shared ? to_shared : 0u);
 }
 
 void SlabJoin::end(const SlabSummary& summary) {
@@ -325,6 +364,13 @@ Status SlabReplay::replay(SlabChunk& chunk) {
         const SlabChunk::FormattedRun& run = chunk.formatted_runs[run_at++];
         status = mesh_->consume_formatted_faces(chunk.formatted.data() + formatted_at, run.bytes,
                                                 call.count, run.faces);
+        formatted_at += run.bytes;
+        break;
+      }
+      case SlabChunk::Kind::formatted_vertices: {
+        const SlabChunk::FormattedRun& run = chunk.formatted_runs[run_at++];
+        status = mesh_->consume_formatted_vertices(chunk.formatted.data() + formatted_at, run.bytes,
+                                                   call.count);
         formatted_at += run.bytes;
         break;
       }

@@ -17,6 +17,7 @@
 #include "mvox/vertex_normals.h"
 #include "write/mesh/face_formatter.h"
 #include "write/mesh/vertex_placement.h"
+#include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
 
@@ -37,13 +38,16 @@ struct SlabChunk {
   // vertex_count: a vertex batch of a format that writes no vertex records (STL), placed
   // within float's range, of which only the count is kept. formatted_faces: a polygon batch
   // and its geometry, formatted by the slab's FaceFormatter (face_formatter.h).
+  // formatted_vertices: a vertex batch placed within float's range, and its lines formatted by
+  // the slab's VertexTextFormatter (vertex_text_formatter.h).
   enum class Kind : std::uint8_t {
     placed_vertices,
     vertices,
     polygons,
     geometry,
     vertex_count,
-    formatted_faces
+    formatted_faces,
+    formatted_vertices
   };
   struct Call {
     Kind kind;
@@ -61,17 +65,17 @@ struct SlabChunk {
   std::vector<glm::vec3> normals;  // theirs, when the slab computes normals
   std::vector<Polygon> polygons;
   std::vector<PolygonGeometry> geometry;
-  // The records of the formatted_faces calls, one after the other, and each call's face count
-  // and record bytes.
-  FormattedFaces formatted;
+  // The records of the formatted_faces and formatted_vertices calls, one after the other, and
+  // each call's face (or vertex) count and record bytes.
+  FormattedRecords formatted;
   struct FormattedRun {
-    std::uint32_t faces;
+    std::uint32_t faces;  // the vertices of a formatted_vertices call
     std::uint32_t bytes;
   };
   std::vector<FormattedRun> formatted_runs;
   bool first = false;                 // the slab's first chunk: `shared_vertices` is valid
   std::uint64_t shared_vertices = 0;  // EngineCounters::shared_vertices after begin_slab
-  bool last = false;  // the slab's last chunk: `summary` is valid
+  bool last = false;                  // the slab's last chunk: `summary` is valid
   SlabSummary summary;
 
   std::size_t bytes() const {
@@ -88,12 +92,17 @@ struct SlabChunk {
   // `formatted_bytes_per_polygon`: FaceFormatter::most_bytes_per_polygon() when the slabs'
   // faces are formatted by their workers, else 0. Then the engine's batches are not reserved:
   // a chunk keeps them only for a slab whose formatter refused one, in a run the writer then
-  // refuses too.
-  void reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon = 0);
+  // refuses too. `formatted_bytes_per_vertex`: VertexTextFormatter::most_bytes_per_vertex()
+  // when the slabs' vertex lines are formatted by their workers, else 0; then vertex batches
+  // are kept as text instead of placed (the two formatters never come together: a format
+  // whose faces hold no index writes no vertex records).
+  void reserve(const EngineOptions& engine, std::size_t formatted_bytes_per_polygon = 0,
+               std::size_t formatted_bytes_per_vertex = 0);
   // The bytes reserve() gives: the most a chunk's arrays take once a run has touched them all
   // (one chunk may fill its vertices, the next its polygons).
   static std::size_t reserved_bytes(const EngineOptions& engine,
-                                    std::size_t formatted_bytes_per_polygon = 0);
+                                    std::size_t formatted_bytes_per_polygon = 0,
+                                    std::size_t formatted_bytes_per_vertex = 0);
 };
 
 class SlabReplay;
@@ -113,8 +122,8 @@ class SlabRecorder final : public PolygonSink {
   static constexpr std::size_t kChunkBytes = std::size_t{512} << 10;
 
   struct Handover {
-    virtual SlabChunk* take() = 0;             // an empty chunk; null when the run is cancelled
-    virtual void full(SlabChunk* chunk) = 0;   // a chunk for the writer, in order
+    virtual SlabChunk* take() = 0;            // an empty chunk; null when the run is cancelled
+    virtual void full(SlabChunk* chunk) = 0;  // a chunk for the writer, in order
     // Asked before each call is recorded. Null: record it. Otherwise every slab before this one
     // is written, and so is what this one recorded, `current` included (now emptied): the
     // call goes to the returned replay, which the recorder may use until the slab ends.
@@ -138,8 +147,12 @@ class SlabRecorder final : public PolygonSink {
   // formatted, and its vertex batches as counts only. Should the formatter refuse a batch, the
   // rest of the slab is recorded as the engine made it, so that the writer refuses it as with
   // one thread, in the same words.
+  // `vertex_text` (borrowed; may be null): the writer's VertexTextFormatter
+  // (MeshWriter::vertex_text_formatter), for a text format. Vertex batches are then recorded as
+  // their lines; a batch with a vertex outside float's range is recorded as the engine made it.
   SlabRecorder(Handover& handover, const VertexPlacement* placement, const VertexNormals* normals,
-               bool geometry_follows, FaceFormatter* formatter = nullptr);
+               bool geometry_follows, FaceFormatter* formatter = nullptr,
+               VertexTextFormatter* vertex_text = nullptr);
 
   // Starts recording a slab, whose engine numbered `shared_vertices` vertices it does not emit,
   // into a fresh chunk. False when the run is cancelled.
@@ -172,8 +185,7 @@ class SlabRecorder final : public PolygonSink {
   bool format_recorded_batch(const PolygonGeometry* geometry, std::size_t count);
   // Appends the call and its batch to the current chunk.
   template <class Item>
-  void record(SlabChunk::Kind kind, std::vector<Item>& items, const Item* batch,
-              std::size_t count);
+  void record(SlabChunk::Kind kind, std::vector<Item>& items, const Item* batch, std::size_t count);
 
   Handover& handover_;
   const VertexPlacement* placement_;
@@ -183,6 +195,7 @@ class SlabRecorder final : public PolygonSink {
   std::vector<glm::vec3> batch_normals_;
   bool geometry_follows_;
   FaceFormatter* formatter_;
+  VertexTextFormatter* vertex_text_;
   bool formatting_ = false;  // the current slab's faces are recorded formatted
   bool own_only_ = false;
   SlabChunk* chunk_ = nullptr;

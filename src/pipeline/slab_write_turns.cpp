@@ -37,7 +37,8 @@ class SlabWriteTurns::WorkerHandover final : public SlabRecorder::Handover {
 SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned workers,
                                const EngineOptions& engine, const Cancellation& cancellation,
                                std::function<void()> cancel,
-                               std::size_t formatted_bytes_per_polygon)
+                               std::size_t formatted_bytes_per_polygon,
+                               std::size_t formatted_bytes_per_vertex)
     : replay_(mesh),
       slabs_(slabs),
       workers_(workers),
@@ -48,7 +49,7 @@ SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned w
     Pool& pool = pools_[w];
     pool.storage.resize(kChunksPerWorker);
     for (SlabChunk& chunk : pool.storage) {
-      chunk.reserve(engine, formatted_bytes_per_polygon);
+      chunk.reserve(engine, formatted_bytes_per_polygon, formatted_bytes_per_vertex);
       pool.free.push_back(&chunk);
     }
     handovers_.push_back(std::make_unique<WorkerHandover>(*this, w));

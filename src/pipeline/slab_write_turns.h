@@ -38,10 +38,12 @@ class SlabWriteTurns {
   // `slabs` slabs, slab k extracted by worker k mod `workers`, written into `mesh` (may be null:
   // the slabs record nothing, and only their counters are summed). `cancel` stops the run when
   // the writer refuses; waits end when `cancellation` is set and wake() called.
-  // `formatted_bytes_per_polygon`: for SlabChunk::reserve, when workers format their faces.
+  // `formatted_bytes_per_polygon` and `formatted_bytes_per_vertex`: for SlabChunk::reserve, when
+  // workers format their faces or their vertex lines.
   SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned workers,
                  const EngineOptions& engine, const Cancellation& cancellation,
-                 std::function<void()> cancel, std::size_t formatted_bytes_per_polygon = 0);
+                 std::function<void()> cancel, std::size_t formatted_bytes_per_polygon = 0,
+                 std::size_t formatted_bytes_per_vertex = 0);
   ~SlabWriteTurns();
 
   // Worker w's handover for its recorder. Call start_slab() before each slab it extracts, and

@@ -14,7 +14,7 @@
 
 #include "command_runner.h"
 #include "file_io.h"
-#include "slab_run_checks.h"
+#include "memory_slab_slices.h"
 #include "mvox/engine.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/pipeline.h"
@@ -22,6 +22,7 @@
 #include "pipeline/slab_extraction.h"
 #include "pipeline/slab_recorder.h"
 #include "read/memory/memory_volume_source.h"
+#include "slab_run_checks.h"
 #include "write/mesh/face_formatter.h"
 #include "write/mesh/mesh_format.h"
 #include "write/mesh/ply_writer.h"
@@ -72,25 +73,6 @@ class KeepingHandover final : public SlabRecorder::Handover {
   std::deque<SlabChunk> chunks;
 };
 
-// A volume's slices from memory, for extract_slab().
-class MemorySlabSlices final : public SlabSlices {
- public:
-  MemorySlabSlices(const std::vector<std::uint8_t>& samples, const VolumeInfo& info)
-      : samples_(samples), info_(info) {}
-  bool next(std::uint32_t z, SliceView* view) override {
-    view->samples = samples_.data() + std::size_t{z} * info_.width * info_.height;
-    view->width = info_.width;
-    view->height = info_.height;
-    view->type = SampleType::u8;
-    view->row_stride_bytes = info_.width;
-    return true;
-  }
-
- private:
-  const std::vector<std::uint8_t>& samples_;
-  const VolumeInfo& info_;
-};
-
 // The volume cut into slabs of `slab_slices`, each extracted as a slab worker extracts it
 // (extract_slab) through a recorder with `writer`'s formatter whose turn never comes while it
 // records; then every slab's chunks replayed into `writer`, in order.
@@ -102,7 +84,7 @@ void record_then_replay(const std::vector<std::uint8_t>& samples, const VolumeIn
   const EngineOptions engine = with_geometry();
   std::vector<std::uint64_t> workspace(engine_workspace_bytes(info.width, info.height, engine) / 8 +
                                        1);
-  MemorySlabSlices slices(samples, info);
+  test::MemorySlabSlices slices(samples, info);
   Cancellation cancellation;
   for (std::uint32_t first = 0; first < info.depth; first += slab_slices) {
     const SlabSpan span =
@@ -198,8 +180,7 @@ std::string refusal_straight(const HandFed& calls, const MeshWriterOptions& opti
   // The refusal is read from error(), as finish() would throw it.
   static_cast<void>(writer.consume_vertices(calls.vertices.data(), calls.vertices.size()));
   static_cast<void>(writer.consume_polygons(calls.polygons.data(), calls.polygons.size()));
-  static_cast<void>(
-      writer.consume_polygon_geometry(calls.geometry.data(), calls.geometry.size()));
+  static_cast<void>(writer.consume_polygon_geometry(calls.geometry.data(), calls.geometry.size()));
   return writer.error() ? writer.error()->what() : "";
 }
 

@@ -2,7 +2,7 @@
 
 namespace mvox {
 
-FormattedFaces& FaceFormatter::records() {
+FormattedRecords& FaceFormatter::records() {
   if (!records_) throw Error(subject(), "internal error: faces formatted with nowhere to go");
   return *records_;
 }

@@ -15,32 +15,10 @@
 #include <utility>
 #include <vector>
 
+#include "write/mesh/formatted_records.h"
 #include "write/mesh/mesh_writer.h"
 
 namespace mvox {
-
-// Formatted records, appended; a Sink for binary_records.h. Its storage only grows, and keeps
-// its size when emptied, so that appending never zeroes bytes a second time (as resizing a
-// vector would each time it is refilled).
-class FormattedFaces {
- public:
-  void* reserve(std::size_t bytes) {
-    if (storage_.size() < used_ + bytes) storage_.resize(used_ + bytes);
-    return storage_.data() + used_;
-  }
-  void commit(std::size_t bytes) { used_ += bytes; }
-  // Forgets everything from byte `size` on.
-  void truncate(std::size_t size) { used_ = size < used_ ? size : used_; }
-  void clear() { used_ = 0; }
-  void reserve_capacity(std::size_t bytes) { storage_.reserve(bytes); }
-
-  const unsigned char* data() const { return storage_.data(); }
-  std::size_t size() const { return used_; }
-
- private:
-  std::vector<unsigned char> storage_;
-  std::size_t used_ = 0;
-};
 
 class FaceFormatter : public MeshWriter {
  public:
@@ -49,7 +27,7 @@ class FaceFormatter : public MeshWriter {
   // MeshWriter's checks, and a refusal of an earlier slab is forgotten.
   void start_slab(std::uint64_t shared_vertices) { restart(shared_vertices); }
   // Where the next records go; borrowed until the next call.
-  void format_into(FormattedFaces* records) { records_ = records; }
+  void format_into(FormattedRecords* records) { records_ = records; }
   // The most bytes of records one polygon can make (its triangles, when it is split).
   virtual std::size_t most_bytes_per_polygon() const = 0;
 
@@ -61,13 +39,13 @@ class FaceFormatter : public MeshWriter {
                 std::string subject)
       : MeshWriter(options, faces, positions), subject_(std::move(subject)) {}
   // Throws (an internal error) before format_into() has given a target.
-  FormattedFaces& records();
+  FormattedRecords& records();
 
  private:
   void complete_file() override {}
 
   std::string subject_;
-  FormattedFaces* records_ = nullptr;
+  FormattedRecords* records_ = nullptr;
 };
 
 }  // namespace mvox

@@ -18,11 +18,26 @@
 namespace mvox {
 
 class FloatTexts {
+  // 8192 slots (192 KiB): a 1024^3 volume's coordinates on a plain grid (about 2 x 1024 values
+  // shared by x and y, and the few z values of the current layer) fit with few collisions.
+  static constexpr unsigned kSlotBits = 13;
+
  public:
   // The longest text std::to_chars makes of a float: "-1.00000075e-36" (a sign, nine digits, a
   // point and an exponent). put() writes a whole 16-byte block, though.
   static constexpr std::size_t kLongestText = 15;
   static constexpr std::size_t kRoom = 16;  // bytes put() may write at `out`
+
+ private:
+  struct Slot {
+    std::uint32_t bits = 0;
+    char text[kRoom] = {};
+    std::uint8_t length = 0;  // 0: empty (every float has at least one character)
+  };
+
+ public:
+  // The table's memory, for memory plans.
+  static constexpr std::size_t kBytes = (std::size_t{1} << kSlotBits) * sizeof(Slot);
 
   FloatTexts();
 
@@ -38,15 +53,6 @@ class FloatTexts {
   }
 
  private:
-  // 8192 slots (192 KiB): a 1024^3 volume's coordinates on a plain grid (about 2 x 1024 values
-  // shared by x and y, and the few z values of the current layer) fit with few collisions.
-  static constexpr unsigned kSlotBits = 13;
-  struct Slot {
-    std::uint32_t bits = 0;
-    char text[kRoom] = {};
-    std::uint8_t length = 0;  // 0: empty (every float has at least one character)
-  };
-
   static void remember(Slot& slot, std::uint32_t bits, float value);
 
   std::unique_ptr<Slot[]> slots_;

@@ -3,6 +3,7 @@
 #include <cctype>
 
 #include "write/buffered_writer.h"
+#include "write/mesh/float_texts.h"
 #include "write/mesh/obj_writer.h"
 #include "write/mesh/ply_writer.h"
 #include "write/mesh/stl_writer.h"
@@ -46,11 +47,24 @@ std::uint64_t mesh_writer_working_bytes(MeshFormat format, bool background_write
   // Each file's buffer may have a second one while the first is written in the background
   // (buffered_writer.h).
   const std::uint64_t buffers = background_writes ? 2 : 1;
-  return files * buffers * BufferedWriter::kBufferBytes + kMeshWriterBatchBytes;
+  // The text formats keep the texts of recent floats (float_texts.h).
+  const bool text = format == MeshFormat::obj || format == MeshFormat::ply_ascii;
+  return files * buffers * BufferedWriter::kBufferBytes + kMeshWriterBatchBytes +
+         (text ? FloatTexts::kBytes : 0);
 }
 
 std::size_t formatted_bytes_per_polygon(MeshFormat format) {
   return format == MeshFormat::stl ? StlWriter::kMostBytesPerPolygon : 0;
+}
+
+std::size_t formatted_bytes_per_vertex(MeshFormat format, bool normals) {
+  switch (format) {
+    case MeshFormat::obj: return ObjWriter::most_vertex_text_bytes(normals);
+    case MeshFormat::ply_ascii: return PlyWriter::most_vertex_text_bytes(normals);
+    case MeshFormat::ply:
+    case MeshFormat::stl: return 0;
+  }
+  return 0;
 }
 
 bool mesh_writer_needs_geometry(MeshFormat format, const MeshWriterOptions& options) {

@@ -40,6 +40,10 @@ std::uint64_t mesh_writer_working_bytes(MeshFormat format, bool background_write
 // bytes of records it makes of one polygon (FaceFormatter::most_bytes_per_polygon); else 0.
 // For memory plans, made before any writer.
 std::size_t formatted_bytes_per_polygon(MeshFormat format);
+// For a text format, whose writers have a VertexTextFormatter (MeshWriter::vertex_text_formatter:
+// OBJ, ASCII PLY), the most bytes it takes room for to format one vertex, with or without
+// normals (VertexTextFormatter::most_bytes_per_vertex); else 0. For memory plans.
+std::size_t formatted_bytes_per_vertex(MeshFormat format, bool normals);
 
 // True when a writer of `format` with `options` needs every polygon's geometry from the engine
 // (EngineOptions::polygon_geometry): STL and --triangulate.

@@ -8,6 +8,7 @@
 #include "write/mesh/face_formatter.h"
 #include "write/mesh/polygon_scan.h"
 #include "write/mesh/polygon_triangulation.h"
+#include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
 namespace {
@@ -138,6 +139,21 @@ void MeshWriter::write_formatted_faces(const unsigned char*, std::size_t, std::s
   throw Error(subject(), "internal error: formatted faces for a format that formats its own");
 }
 
+std::unique_ptr<VertexTextFormatter> MeshWriter::vertex_text_formatter() const { return nullptr; }
+
+Status MeshWriter::consume_formatted_vertices(const unsigned char* records, std::size_t bytes,
+                                              std::size_t vertex_count) {
+  return guarded("vertices", [&] {
+    check_vertex_room(vertex_count);
+    write_formatted_vertices(records, bytes);
+    vertex_count_ += vertex_count;
+  });
+}
+
+void MeshWriter::write_formatted_vertices(const unsigned char*, std::size_t) {
+  throw Error(subject(), "internal error: formatted vertices for a format that formats its own");
+}
+
 void MeshWriter::restart(std::uint64_t first_vertex) {
   vertex_count_ = first_vertex;
   polygon_count_ = 0;
@@ -172,9 +188,8 @@ void MeshWriter::check_polygons(const Polygon* polygons, std::size_t polygon_cou
         throw Error(subject(), face + " refers to vertex " + std::to_string(moved) + " of " +
                                    std::to_string(vertex_count_) + " written");
       const std::uint32_t written = static_cast<std::uint32_t>(moved);
-      const std::uint64_t index = vertex_count_ == 0
-                                      ? written
-                                      : whole_vertex_index(written, vertex_count_);
+      const std::uint64_t index =
+          vertex_count_ == 0 ? written : whole_vertex_index(written, vertex_count_);
       if (index >= vertex_count_)
         throw Error(subject(), face + " refers to vertex " + std::to_string(polygon.vertices[k]) +
                                    " of " + std::to_string(vertex_count_) + " written");

@@ -19,6 +19,7 @@
 namespace mvox {
 
 class FaceFormatter;
+class VertexTextFormatter;
 
 struct MeshWriterOptions {
   // Where the mesh lands (world_transform.h). Checked by the writer's constructor.
@@ -113,6 +114,13 @@ class MeshWriter : public PolygonSink {
   // writer's face records in memory, for a slab worker ahead of its turn (face_formatter.h).
   // Null for the others.
   virtual std::unique_ptr<FaceFormatter> face_formatter() const;
+  // For a text format (OBJ, ASCII PLY): a formatter that makes this writer's vertex lines in
+  // memory, for a slab worker ahead of its turn (vertex_text_formatter.h). Null for the others.
+  virtual std::unique_ptr<VertexTextFormatter> vertex_text_formatter() const;
+  // For a writer that has a vertex_text_formatter(): the lines its formatter made for
+  // `vertex_count` placed vertices, `bytes` long, appended as they are.
+  Status consume_formatted_vertices(const unsigned char* records, std::size_t bytes,
+                                    std::size_t vertex_count);
   // False for a format that writes no vertex records (STL: its triangles hold their positions).
   virtual bool writes_vertex_records() const { return true; }
   // For a writer that writes no vertex records: `vertex_count`
@@ -173,6 +181,9 @@ class MeshWriter : public PolygonSink {
   // The records of consume_formatted_faces(); only writers with a face_formatter() get them.
   virtual void write_formatted_faces(const unsigned char* records, std::size_t bytes,
                                      std::size_t face_count);
+  // The lines of consume_formatted_vertices(); only writers with a vertex_text_formatter() get
+  // them.
+  virtual void write_formatted_vertices(const unsigned char* records, std::size_t bytes);
   // Starts over, counting vertices from `first_vertex`, as a writer of a part that starts there
   // (a FaceFormatter's next slab). Forgets the counts, a waiting polygon batch and an error. A
   // writer once completed stays so, and refuses every batch (its buffers are gone).

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "write/buffered_writer.h"
+#include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
 namespace {
@@ -24,10 +25,49 @@ char* put_floats(char* out, const char* keyword, const float* values, FloatTexts
   return out;
 }
 
+// The lines of `vertex_count` vertices into `sink` (the file, or a slab worker's records), a run
+// at a time, straight into its buffer.
+template <class Sink>
+void put_vertex_lines(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count,
+                      bool with_normals, FloatTexts& texts) {
+  const std::size_t most_bytes = ObjWriter::most_vertex_text_bytes(with_normals);
+  const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
+  for (std::size_t first = 0; first < vertex_count; first += per_run) {
+    const std::size_t count = std::min(per_run, vertex_count - first);
+    char* const begin = static_cast<char*>(static_cast<void*>(sink.reserve(count * most_bytes)));
+    char* out = begin;
+    for (std::size_t i = first; i < first + count; ++i) {
+      out = put_floats(out, "v", vertices[i].position, texts);
+      if (with_normals) out = put_floats(out, "vn", vertices[i].normal, texts);
+    }
+    sink.commit(static_cast<std::size_t>(out - begin));
+  }
+}
+
+// A slab worker's copy of the writer's vertex lines, with floats' texts of its own.
+class ObjVertexLines final : public VertexTextFormatter {
+ public:
+  explicit ObjVertexLines(bool with_normals) : with_normals_(with_normals) {}
+  std::size_t most_bytes_per_vertex() const override {
+    return ObjWriter::most_vertex_text_bytes(with_normals_);
+  }
+  void format(const WorldVertex* vertices, std::size_t count, FormattedRecords& records) override {
+    put_vertex_lines(records, vertices, count, with_normals_, texts_);
+  }
+
+ private:
+  bool with_normals_;
+  FloatTexts texts_;
+};
+
 // "f", then per vertex a space and "I" or "I//I" with I of at most 20 digits, and the newline.
 constexpr std::size_t kMostFaceBytes = 1 + kMaxPolygonVertices * (1 + 20 + 2 + 20) + 1;
 
 }  // namespace
+
+std::size_t ObjWriter::most_vertex_text_bytes(bool normals) {
+  return (normals ? 2 : 1) * kMostLineBytes;
+}
 
 std::string ObjWriter::head(const MeshWriterOptions& options) {
   std::string comments;
@@ -43,19 +83,15 @@ ObjWriter::ObjWriter(const std::string& path, const MeshWriterOptions& options)
 }
 
 void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_count) {
-  const bool with_normals = options().writes_normals();
-  const std::size_t most_bytes = (with_normals ? 2 : 1) * kMostLineBytes;
-  const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
-  for (std::size_t first = 0; first < vertex_count; first += per_run) {
-    const std::size_t count = std::min(per_run, vertex_count - first);
-    char* const begin = out_.reserve(count * most_bytes);
-    char* out = begin;
-    for (std::size_t i = first; i < first + count; ++i) {
-      out = put_floats(out, "v", vertices[i].position, texts_);
-      if (with_normals) out = put_floats(out, "vn", vertices[i].normal, texts_);
-    }
-    out_.commit(static_cast<std::size_t>(out - begin));
-  }
+  put_vertex_lines(out_, vertices, vertex_count, options().writes_normals(), texts_);
+}
+
+std::unique_ptr<VertexTextFormatter> ObjWriter::vertex_text_formatter() const {
+  return std::make_unique<ObjVertexLines>(options().writes_normals());
+}
+
+void ObjWriter::write_formatted_vertices(const unsigned char* records, std::size_t bytes) {
+  out_.write(records, bytes);
 }
 
 void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
@@ -85,9 +121,8 @@ void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
         // copy of fixed size that the compiler inlines; the bytes past the digits are
         // overwritten or not committed.
         char digits[20];
-        const std::size_t length =
-            static_cast<std::size_t>(std::to_chars(digits, digits + sizeof digits, index).ptr -
-                                     digits);
+        const std::size_t length = static_cast<std::size_t>(
+            std::to_chars(digits, digits + sizeof digits, index).ptr - digits);
         std::memcpy(out, digits, sizeof digits);
         out += length;
         *out++ = '/';

@@ -29,10 +29,15 @@ class ObjWriter final : public MeshWriter {
   // The comment lines: the head of a mesh written in parts (mesh_file_head).
   static std::string head(const MeshWriterOptions& options);
 
+  std::unique_ptr<VertexTextFormatter> vertex_text_formatter() const override;
+  // VertexTextFormatter::most_bytes_per_vertex() of its formatter, with or without normals.
+  static std::size_t most_vertex_text_bytes(bool normals);
+
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
   void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
                    std::uint32_t index_offset) override;
+  void write_formatted_vertices(const unsigned char* records, std::size_t bytes) override;
   void complete_file() override;
 
   OutputFile out_;

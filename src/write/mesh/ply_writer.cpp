@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "write/mesh/binary_records.h"
+#include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
 namespace {
@@ -56,7 +57,54 @@ std::string padded_header(PlyFormat format, const MeshWriterOptions& options,
   return header;
 }
 
+// ASCII vertex lines into `sink` (the file, a vertex spool or a slab worker's records), a run of
+// lines at a time, straight into its buffer.
+template <class Sink>
+void put_ascii_vertices(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count,
+                        bool normals, FloatTexts& texts) {
+  const int fields = normals ? 6 : 3;
+  const std::size_t most_bytes = PlyWriter::most_vertex_text_bytes(normals);
+  const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
+  for (std::size_t first = 0; first < vertex_count; first += per_run) {
+    const std::size_t count = std::min(per_run, vertex_count - first);
+    char* const begin = static_cast<char*>(static_cast<void*>(sink.reserve(count * most_bytes)));
+    char* out = begin;
+    for (std::size_t i = first; i < first + count; ++i) {
+      const WorldVertex& vertex = vertices[i];
+      const float written[6] = {vertex.position[0], vertex.position[1], vertex.position[2],
+                                vertex.normal[0],   vertex.normal[1],   vertex.normal[2]};
+      for (int field = 0; field < fields; ++field) {
+        out = texts.put(out, written[field]);
+        *out++ = field + 1 < fields ? ' ' : '\n';
+      }
+    }
+    sink.commit(static_cast<std::size_t>(out - begin));
+  }
+}
+
+// A slab worker's copy of the writer's ASCII vertex lines, with floats' texts of its own.
+class AsciiVertexLines final : public VertexTextFormatter {
+ public:
+  explicit AsciiVertexLines(bool normals) : normals_(normals) {}
+  std::size_t most_bytes_per_vertex() const override {
+    return PlyWriter::most_vertex_text_bytes(normals_);
+  }
+  void format(const WorldVertex* vertices, std::size_t count, FormattedRecords& records) override {
+    put_ascii_vertices(records, vertices, count, normals_, texts_);
+  }
+
+ private:
+  bool normals_;
+  FloatTexts texts_;
+};
+
 }  // namespace
+
+std::size_t PlyWriter::most_vertex_text_bytes(bool normals) {
+  // Each field's text (put() may write FloatTexts::kRoom bytes), followed by a space or the
+  // newline.
+  return (normals ? 6 : 3) * (FloatTexts::kRoom + 1);
+}
 
 std::string PlyWriter::head(const PlyWriterOptions& options, std::uint64_t vertex_count,
                             std::uint64_t face_count) {
@@ -95,30 +143,27 @@ void PlyWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_c
 template <class Sink>
 void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
                                   std::size_t vertex_count) {
-  const int fields = options().writes_normals() ? 6 : 3;
+  const bool normals = options().writes_normals();
   if (format_ == PlyFormat::ascii) {
-    // A run of lines at a time, straight into the sink's buffer: each field's text (put() may
-    // write FloatTexts::kRoom bytes), followed by a space or the newline.
-    const std::size_t most_bytes = static_cast<std::size_t>(fields) * (FloatTexts::kRoom + 1);
-    const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
-    for (std::size_t first = 0; first < vertex_count; first += per_run) {
-      const std::size_t count = std::min(per_run, vertex_count - first);
-      char* const begin = static_cast<char*>(sink.reserve(count * most_bytes));
-      char* out = begin;
-      for (std::size_t i = first; i < first + count; ++i) {
-        const WorldVertex& vertex = vertices[i];
-        const float written[6] = {vertex.position[0], vertex.position[1], vertex.position[2],
-                                  vertex.normal[0],   vertex.normal[1],   vertex.normal[2]};
-        for (int field = 0; field < fields; ++field) {
-          out = texts_->put(out, written[field]);
-          *out++ = field + 1 < fields ? ' ' : '\n';
-        }
-      }
-      sink.commit(static_cast<std::size_t>(out - begin));
-    }
+    put_ascii_vertices(sink, vertices, vertex_count, normals, *texts_);
     return;
   }
-  put_ply_vertices(sink, vertices, vertex_count, fields == 6);
+  put_ply_vertices(sink, vertices, vertex_count, normals);
+}
+
+std::unique_ptr<VertexTextFormatter> PlyWriter::vertex_text_formatter() const {
+  if (format_ != PlyFormat::ascii) return nullptr;
+  return std::make_unique<AsciiVertexLines>(options().writes_normals());
+}
+
+void PlyWriter::write_formatted_vertices(const unsigned char* records, std::size_t bytes) {
+  if (format_ != PlyFormat::ascii)
+    throw Error(subject(), "internal error: formatted vertices for binary PLY");
+  if (vertex_spool_) {
+    vertex_spool_->write(records, bytes);
+  } else {
+    out_.write(records, bytes);
+  }
 }
 
 void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,

@@ -55,10 +55,17 @@ class PlyWriter final : public MeshWriter {
   // offset of the first vertex in a file written to a regular target.
   static std::size_t reserved_header_bytes(const PlyWriterOptions& options);
 
+  // ASCII only: its vertex lines formatted by slab workers.
+  std::unique_ptr<VertexTextFormatter> vertex_text_formatter() const override;
+  // VertexTextFormatter::most_bytes_per_vertex() of the ASCII formatter, with or without
+  // normals.
+  static std::size_t most_vertex_text_bytes(bool normals);
+
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
   void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
                    std::uint32_t index_offset) override;
+  void write_formatted_vertices(const unsigned char* records, std::size_t bytes) override;
   void complete_file() override;
   template <class Sink>
   void write_vertices_to(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count);
