@@ -258,6 +258,9 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
       // VertexTextFormatter has texts of floats of its own.
       (options.formatted_bytes_per_polygon > 0 ? kMeshWriterBatchBytes : 0) +
       (options.formatted_bytes_per_vertex > 0 ? FloatTexts::kBytes : 0) +
+      // The recorder's one placed batch (written straight, or made into vertex lines) and its
+      // normals.
+      std::uint64_t{engine.vertices_per_batch} * sizeof(WorldVertex) +
       (options.normals ? std::uint64_t{engine.vertices_per_batch} * sizeof(glm::vec3) : 0);
   return per_worker * options.threads;
 }

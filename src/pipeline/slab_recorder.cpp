@@ -186,7 +186,12 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
       if (placement_->place(vertices, normals, count, placed_batch_.data()) == count) {
         SlabChunk& chunk = *chunk_;
         const std::size_t bytes_before = chunk.formatted.size();
-        vertex_text_->format(placed_batch_.data(), count, chunk.formatted);
+        try {
+          vertex_text_->format(placed_batch_.data(), count, chunk.formatted);
+        } catch (...) {
+          chunk.formatted.truncate(bytes_before);  // the chunk stays whole; the run fails
+          throw;
+        }
         chunk.calls.push_back(
             {SlabChunk::Kind::formatted_vertices, own_only_, static_cast<std::uint32_t>(count)});
         chunk.formatted_runs.push_back(
@@ -363,7 +368,7 @@ Status SlabReplay::replay(SlabChunk& chunk) {
       case SlabChunk::Kind::formatted_faces: {
         const SlabChunk::FormattedRun& run = chunk.formatted_runs[run_at++];
         status = mesh_->consume_formatted_faces(chunk.formatted.data() + formatted_at, run.bytes,
-                                                call.count, run.faces);
+                                                call.count, run.count);
         formatted_at += run.bytes;
         break;
       }

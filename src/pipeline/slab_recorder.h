@@ -69,7 +69,7 @@ struct SlabChunk {
   // each call's face (or vertex) count and record bytes.
   FormattedRecords formatted;
   struct FormattedRun {
-    std::uint32_t faces;  // the vertices of a formatted_vertices call
+    std::uint32_t count;  // faces, or a formatted_vertices call's vertices
     std::uint32_t bytes;
   };
   std::vector<FormattedRun> formatted_runs;
@@ -199,7 +199,8 @@ class SlabRecorder final : public PolygonSink {
   bool formatting_ = false;  // the current slab's faces are recorded formatted
   bool own_only_ = false;
   SlabChunk* chunk_ = nullptr;
-  std::vector<WorldVertex> placed_batch_;  // one batch placed, when written straight
+  // One batch placed: when written straight, or formatted as vertex lines.
+  std::vector<WorldVertex> placed_batch_;
   double write_seconds_ = 0;
 };
 

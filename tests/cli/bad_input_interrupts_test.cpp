@@ -139,16 +139,28 @@ TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
 TEST_F(BadInput, AnErrorWhileSlabThreadsReadAnOpenPipeEndsTheRunAtOnce) {
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
   const std::vector<std::string> job = {
-      "extract", "volume.raw", "--raw", std::to_string(kSide) + "x" + std::to_string(kSide) + "x" +
-      std::to_string(kDepth) + ":u8", "-t", "128", "-o", "/dev/full", "--format", "obj",
-      "--threads", "2", "--slab-slices", "4", "-q"};
+      "extract",
+      "volume.raw",
+      "--raw",
+      std::to_string(kSide) + "x" + std::to_string(kSide) + "x" + std::to_string(kDepth) + ":u8",
+      "-t",
+      "128",
+      "-o",
+      "/dev/full",
+      "--format",
+      "obj",
+      "--threads",
+      "2",
+      "--slab-slices",
+      "4",
+      "-q"};
   const auto before = test::tree_snapshot(dir_.path());
   MvoxProcess mvox(job, dir_.path());
   FifoWriter fifo(dir_ / "volume.raw");
   // Six slices of noise: the first slab's OBJ text fills the writer's buffer many times over,
-  // and the reader has given the second slab all it has. A writer fast enough fails on the full
-  // device before the last slices are taken: the pipe then breaks while it is still open here,
-  // which ends the run at once just the same, and the slices left are not written.
+  // and the reader has given the second slab all it has. The pipe holds all six, so that they
+  // go in even when the writer fails on the full device before the reader has taken them.
+  ASSERT_TRUE(fifo.hold(std::size_t{6} * kSide * kSide)) << "the pipe cannot hold six slices";
   std::uint64_t state = 11;
   for (int z = 0; z < 6; ++z) {
     std::string slice(kSide * kSide, '\0');
@@ -156,7 +168,7 @@ TEST_F(BadInput, AnErrorWhileSlabThreadsReadAnOpenPipeEndsTheRunAtOnce) {
       state = state * 6364136223846793005ull + 1442695040888963407ull;
       c = static_cast<char>(state >> 56);
     }
-    if (!fifo.write(slice)) break;
+    ASSERT_TRUE(fifo.write(slice)) << "slice " << z;
   }
   // finish() fails the test if mvox takes 60 s: it would wait for the FIFO to close.
   const MvoxProcess::Ending ending = mvox.finish();

@@ -12,6 +12,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mvox {
@@ -90,23 +91,22 @@ TEST(FloatTexts, WritesTheLibrarysTextForGridCoordinates) {
 }
 
 TEST(FloatTexts, KeepsValuesApartThatShareASlot) {
-  // Values whose slot is taken in turn by another value: each lookup must see that the slot
-  // holds another value's text. Many pairs are found by sweeping bit patterns; every pair shares
-  // a slot because only 8192 slots hold 100,000 values.
+  // Pairs of values that take the same slot, looked up in turn: each lookup must see that the
+  // slot holds the other value's text.
+  std::vector<std::pair<float, float>> pairs;
+  std::vector<std::uint32_t> first_in_slot(std::size_t{1} << 16, 0);
+  for (std::uint32_t bits = 0x3f800000u; pairs.size() < 2000; bits += 977) {
+    std::uint32_t& first = first_in_slot[FloatTexts::slot_of(bits) % first_in_slot.size()];
+    if (first != 0 && FloatTexts::slot_of(first) == FloatTexts::slot_of(bits))
+      pairs.emplace_back(from_bits(first), from_bits(bits));
+    first = bits;
+  }
   FloatTexts texts;
-  std::vector<float> values;
-  for (std::uint32_t bits = 0x3f800000u; values.size() < 100000; bits += 977) {
-    values.push_back(from_bits(bits));
-  }
-  for (std::size_t i = 0; i + 1 < values.size(); i += 2) {
-    for (int turn = 0; turn < 2; ++turn) {
-      ASSERT_EQ(cached_text(texts, values[i]), library_text(values[i]));
-      ASSERT_EQ(cached_text(texts, values[i + 1]), library_text(values[i + 1]));
+  for (const auto& [a, b] : pairs)
+    for (int turn = 0; turn < 3; ++turn) {
+      ASSERT_EQ(cached_text(texts, a), library_text(a));
+      ASSERT_EQ(cached_text(texts, b), library_text(b));
     }
-  }
-  // And a second sweep, where most slots hold a value other than the one looked up.
-  for (std::size_t i = values.size(); i-- > 0;)
-    ASSERT_EQ(cached_text(texts, values[i]), library_text(values[i]));
 }
 
 TEST(FloatTexts, NoFloatNeedsMoreThanTheLongestText) {

@@ -46,6 +46,10 @@ bool FifoWriter::write(const std::string& bytes) {
   return done == bytes.size();
 }
 
+bool FifoWriter::hold(std::size_t bytes) {
+  return fd_ >= 0 && ::fcntl(fd_, F_SETPIPE_SZ, static_cast<int>(bytes)) >= static_cast<int>(bytes);
+}
+
 void FifoWriter::close() {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;

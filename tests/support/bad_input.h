@@ -29,6 +29,9 @@ class FifoWriter {
 
   // True when every byte went in. Returns as soon as mvox has taken all but a pipe's capacity.
   bool write(const std::string& bytes);
+  // Makes the pipe hold `bytes` (F_SETPIPE_SZ), so that writes that fit return at once,
+  // whatever mvox does meanwhile. False when the system refuses.
+  bool hold(std::size_t bytes);
   void close();
 
  private:

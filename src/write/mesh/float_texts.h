@@ -41,12 +41,17 @@ class FloatTexts {
 
   FloatTexts();
 
+  // The slot a float's bits take: a multiplicative hash, whose top bits mix all of them.
+  static std::size_t slot_of(std::uint32_t bits) {
+    return (bits * 0x9E3779B1u) >> (32 - kSlotBits);
+  }
+
   // Writes `value`'s text at `out` and returns its end. `out` must have kRoom bytes of room;
   // the bytes past the text are left undefined.
   char* put(char* out, float value) {
     std::uint32_t bits;
     std::memcpy(&bits, &value, sizeof bits);
-    Slot& slot = slots_[(bits * 0x9E3779B1u) >> (32 - kSlotBits)];
+    Slot& slot = slots_[slot_of(bits)];
     if (slot.length == 0 || slot.bits != bits) remember(slot, bits, value);
     std::memcpy(out, slot.text, kRoom);
     return out + slot.length;

@@ -18,6 +18,8 @@ namespace mvox {
 //   f I//I J//J K//K ...     with normals (vertex I has normal I)
 // The engine sends a polygon's vertices before the polygon, so every face follows the lines of
 // the vertices it uses. Numbers are the shortest text that reads back to the same float.
+// Memory: the file's buffers and the texts of recent floats (float_texts.h, 192 KiB), whatever
+// the mesh size.
 class ObjWriter final : public MeshWriter {
  public:
   // Creates the temporary file and writes the comments. Throws mvox::Error.
