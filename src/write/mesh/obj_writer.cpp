@@ -44,22 +44,6 @@ void put_vertex_lines(Sink& sink, const WorldVertex* vertices, std::size_t verte
   }
 }
 
-// A slab worker's copy of the writer's vertex lines, with floats' texts of its own.
-class ObjVertexLines final : public VertexTextFormatter {
- public:
-  explicit ObjVertexLines(bool with_normals) : with_normals_(with_normals) {}
-  std::size_t most_bytes_per_vertex() const override {
-    return ObjWriter::most_vertex_text_bytes(with_normals_);
-  }
-  void format(const WorldVertex* vertices, std::size_t count, FormattedRecords& records) override {
-    put_vertex_lines(records, vertices, count, with_normals_, texts_);
-  }
-
- private:
-  bool with_normals_;
-  FloatTexts texts_;
-};
-
 // "f", then per vertex a space and "I" or "I//I" with I of at most 20 digits, and the newline.
 constexpr std::size_t kMostFaceBytes = 1 + kMaxPolygonVertices * (1 + 20 + 2 + 20) + 1;
 
@@ -87,7 +71,9 @@ void ObjWriter::write_vertices(const WorldVertex* vertices, std::size_t vertex_c
 }
 
 std::unique_ptr<VertexTextFormatter> ObjWriter::vertex_text_formatter() const {
-  return std::make_unique<ObjVertexLines>(options().writes_normals());
+  return std::make_unique<VertexLines>(&put_vertex_lines<FormattedRecords>,
+                                       options().writes_normals(),
+                                       most_vertex_text_bytes(options().writes_normals()));
 }
 
 void ObjWriter::write_formatted_vertices(const unsigned char* records, std::size_t bytes) {

@@ -82,22 +82,6 @@ void put_ascii_vertices(Sink& sink, const WorldVertex* vertices, std::size_t ver
   }
 }
 
-// A slab worker's copy of the writer's ASCII vertex lines, with floats' texts of its own.
-class AsciiVertexLines final : public VertexTextFormatter {
- public:
-  explicit AsciiVertexLines(bool normals) : normals_(normals) {}
-  std::size_t most_bytes_per_vertex() const override {
-    return PlyWriter::most_vertex_text_bytes(normals_);
-  }
-  void format(const WorldVertex* vertices, std::size_t count, FormattedRecords& records) override {
-    put_ascii_vertices(records, vertices, count, normals_, texts_);
-  }
-
- private:
-  bool normals_;
-  FloatTexts texts_;
-};
-
 }  // namespace
 
 std::size_t PlyWriter::most_vertex_text_bytes(bool normals) {
@@ -153,7 +137,9 @@ void PlyWriter::write_vertices_to(Sink& sink, const WorldVertex* vertices,
 
 std::unique_ptr<VertexTextFormatter> PlyWriter::vertex_text_formatter() const {
   if (format_ != PlyFormat::ascii) return nullptr;
-  return std::make_unique<AsciiVertexLines>(options().writes_normals());
+  return std::make_unique<VertexLines>(&put_ascii_vertices<FormattedRecords>,
+                                       options().writes_normals(),
+                                       most_vertex_text_bytes(options().writes_normals()));
 }
 
 void PlyWriter::write_formatted_vertices(const unsigned char* records, std::size_t bytes) {

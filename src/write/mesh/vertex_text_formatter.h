@@ -8,6 +8,7 @@
 // of a float was most of the time of writing those formats.
 #include <cstddef>
 
+#include "write/mesh/float_texts.h"
 #include "write/mesh/formatted_records.h"
 #include "write/mesh/vertex_placement.h"
 
@@ -23,6 +24,26 @@ class VertexTextFormatter {
   // writer would write for them.
   virtual void format(const WorldVertex* vertices, std::size_t count,
                       FormattedRecords& records) = 0;
+};
+
+// A writer's vertex lines made by its own function (the one it writes the file with), with
+// floats' texts of their own: what OBJ and ASCII PLY give their slab workers.
+class VertexLines final : public VertexTextFormatter {
+ public:
+  using Put = void (*)(FormattedRecords& records, const WorldVertex* vertices, std::size_t count,
+                       bool normals, FloatTexts& texts);
+  VertexLines(Put put, bool normals, std::size_t most_bytes_per_vertex)
+      : put_(put), normals_(normals), most_bytes_(most_bytes_per_vertex) {}
+  std::size_t most_bytes_per_vertex() const override { return most_bytes_; }
+  void format(const WorldVertex* vertices, std::size_t count, FormattedRecords& records) override {
+    put_(records, vertices, count, normals_, texts_);
+  }
+
+ private:
+  Put put_;
+  bool normals_;
+  std::size_t most_bytes_;
+  FloatTexts texts_;
 };
 
 }  // namespace mvox
