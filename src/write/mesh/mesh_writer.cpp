@@ -89,10 +89,12 @@ void MeshWriter::check_vertex_room(std::size_t vertex_count) const {
 
 void MeshWriter::place_vertices(const Vertex* vertices, const glm::vec3* given,
                                 std::size_t vertex_count) {
-  vertex_batch_.resize(vertex_count);
+  // Grown only: a batch smaller than the last keeps the room, so the next larger one is not
+  // zero-filled again (place() and compute() write each of the first vertex_count).
+  if (vertex_batch_.size() < vertex_count) vertex_batch_.resize(vertex_count);
   const glm::vec3* normals = given;
   if (options_.normals != nullptr) {
-    normal_batch_.resize(vertex_count);
+    if (normal_batch_.size() < vertex_count) normal_batch_.resize(vertex_count);
     options_.normals->compute(vertices, vertex_count, normal_batch_.data());
     normals = normal_batch_.data();
   }
