@@ -2,6 +2,8 @@
 // each face, a count byte and `vertex_count` little-endian indices plus the offset, modulo
 // 2^32, whatever the unused index slots hold; and never touch a byte past the room it reserved
 // (it writes all seven slots of every face and lets the next record cover the unused ones).
+#include "write/mesh/binary_records.h"
+
 #include <gtest/gtest.h>
 
 #include <cstddef>
@@ -9,8 +11,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include "write/mesh/binary_records.h"
 
 namespace mvox {
 namespace {
