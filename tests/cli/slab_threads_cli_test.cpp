@@ -149,8 +149,9 @@ int threads_started(const std::string& arguments, const test::ScratchDirectory& 
 }
 
 // --threads 1 is for single-core devices: no reading thread and no writing thread, only the one
-// that sleeps until Ctrl-C to remove temporaries; so are slab workers on every core. The mesh here is several MiB, so a writer
-// would start its thread, and several batches, so a reading thread would have work.
+// that sleeps until Ctrl-C to remove temporaries; so are slab workers on every core. The mesh here
+// is several MiB, so a writer would start its thread, and several batches, so a reading thread
+// would have work.
 TEST(SlabThreads, OneThreadOrAWorkerPerCoreMeansNoWritingThread) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 200 * 150 * 40, 5);
@@ -179,6 +180,25 @@ TEST(SlabThreads, OneThreadOrAWorkerPerCoreMeansNoWritingThread) {
   EXPECT_EQ(test::read_bytes(dir.path() / "m.ply"), one);
 }
 
+// `mvox extract INPUT -o FILE OPTIONS` with 4-slice slabs on 2, 3 and 8 threads writes the
+// bytes one thread writes, which must exceed `least_bytes`.
+void expect_slabs_keep_the_bytes(const test::ScratchDirectory& dir, const std::string& input,
+                                 const std::string& file, const std::string& options,
+                                 std::size_t least_bytes) {
+  SCOPED_TRACE(file + " " + options);
+  const std::string run = "extract " + input + " -t 128 -q -o " + file + " " + options;
+  ASSERT_EQ(run_mvox(run + " --threads 1", dir.path()).exit_code, 0);
+  const std::string one = test::read_bytes(dir.path() / file);
+  ASSERT_GT(one.size(), least_bytes);
+  for (const char* threads : {"2", "3", "8"}) {
+    SCOPED_TRACE(threads);
+    const auto result =
+        run_mvox(run + " --slab-slices 4 --threads " + std::string(threads), dir.path());
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_TRUE(test::read_bytes(dir.path() / file) == one);
+  }
+}
+
 // Each 4-slice slab of this noise emits several MiB, more than a worker's chunks hold: a worker
 // ahead of the slab being written fills its chunks and waits for its turn, and a worker that
 // ends its slab before its turn leaves it recorded for whoever hands the turn on
@@ -188,21 +208,20 @@ TEST(SlabThreads, OneThreadOrAWorkerPerCoreMeansNoWritingThread) {
 TEST(SlabThreads, SlabsLargerThanTheirChunksWaitForTheirTurnAndKeepTheBytes) {
   test::ScratchDirectory dir;
   write_noise(dir / "noise.raw", 200 * 150 * 40, 9);
-  for (const char* mesh : {"m.ply", "m.stl"}) {
-    SCOPED_TRACE(mesh);
-    const std::string run =
-        "extract noise.raw --raw 200x150x40:u8 -t 128 -q -o " + std::string(mesh);
-    ASSERT_EQ(run_mvox(run + " --threads 1", dir.path()).exit_code, 0);
-    const std::string one = test::read_bytes(dir.path() / mesh);
-    ASSERT_GT(one.size(), std::size_t{16} << 20);
-    for (const char* threads : {"2", "3", "8"}) {
-      SCOPED_TRACE(threads);
-      const auto result =
-          run_mvox(run + " --slab-slices 4 --threads " + std::string(threads), dir.path());
-      ASSERT_EQ(result.exit_code, 0) << result.output;
-      EXPECT_TRUE(test::read_bytes(dir.path() / mesh) == one);
-    }
-  }
+  for (const char* mesh : {"m.ply", "m.stl"})
+    expect_slabs_keep_the_bytes(dir, "noise.raw --raw 200x150x40:u8", mesh, "",
+                                std::size_t{16} << 20);
+}
+
+// The text formats' workers record their slabs' vertex lines formatted (vertex_text_formatter.h),
+// with normals here, a slab over many 512 KiB chunks (about a third of the file each); the face
+// lines are made by the turn's holder.
+TEST(SlabThreads, TextSlabsLargerThanTheirChunksKeepTheBytes) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 100 * 80 * 12, 5);
+  const std::string input = "noise.raw --raw 100x80x12:u8";
+  expect_slabs_keep_the_bytes(dir, input, "m.obj", "--normals", std::size_t{8} << 20);
+  expect_slabs_keep_the_bytes(dir, input, "m.ply", "--normals --ascii", std::size_t{8} << 20);
 }
 
 TEST(SlabThreads, ThePlanShowsTheWorkersAndDoesNotGrowWithDepth) {
