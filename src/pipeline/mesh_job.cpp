@@ -20,6 +20,7 @@
 #include "pipeline/stopwatch.h"
 #include "pipeline/termination.h"
 #include "postprocess/edge_smoothing.h"
+#include "read/copied_slices.h"
 #include "write/buffered_writer.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
@@ -148,17 +149,29 @@ unsigned slab_threads(const SliceSource& source, const MeshJob& job) {
   return slabs >= 2 ? std::min(threads, slabs) : 1;
 }
 
+bool one_engine_helpers(const SliceSource& source, const MeshJob& job) {
+  if (!job.read_ahead) return false;
+  if (job.threads != 0) return true;  // asked for
+  const VolumeInfo& info = source.info();
+  const std::uint64_t bytes =
+      std::uint64_t{info.width} * info.height * info.depth * sample_bytes(info.type);
+  const auto* copied = dynamic_cast<const CopiedSlices*>(&source);
+  return bytes >= kAutoSlabVolumeBytes || !copied || !copied->slices_are_copied();
+}
+
 namespace {
 
 // Whether the writers may write on a thread of their own (BufferedWriter) in a run of `threads`
-// slab workers. Slab workers on every core leave none for a writing thread beside them: each
-// worker then writes on its own thread when its turn comes, as --threads 1 does. Two workers on
-// two cores were 4-6% faster so (medians of 21 interleaved rounds, raw 256x256x1024 to PLY and
-// STL).
-bool writes_in_background(unsigned threads) {
+// slab workers, or of one engine (threads 1). Slab workers on every core leave none for a
+// writing thread beside them: each worker then writes on its own thread when its turn comes, as
+// --threads 1 does. Two workers on two cores were 4-6% faster so (medians of 21 interleaved
+// rounds, raw 256x256x1024 to PLY and STL). One engine writes in the background only when its
+// helper threads pay (one_engine_helpers).
+bool writes_in_background(const SliceSource& source, const MeshJob& job, unsigned threads) {
   const bool every_core =
       threads > 1 && threads >= std::max(1u, std::thread::hardware_concurrency());
-  return BufferedWriter::background_writes_allowed() && !every_core;
+  return BufferedWriter::background_writes_allowed() && !every_core &&
+         (threads > 1 || one_engine_helpers(source, job));
 }
 
 }  // namespace
@@ -192,7 +205,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   } else {
     plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
     plan.add("reader (slice and decoder buffers)", source.working_bytes());
-    if (job.read_ahead)
+    if (one_engine_helpers(source, job))
       plan.add("reading ahead (2 batches)", PrefetchingSource::buffer_bytes(info));
     if (job.normals || (picture && job.picture.smooth)) {
       const std::uint32_t slots = slice_window_slots(smooth_window_depth(job.smooth_iterations));
@@ -220,7 +233,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   }
   if (!job.output.empty())
     plan.add("mesh writer buffers",
-             mesh_writer_working_bytes(job.format, writes_in_background(threads)));
+             mesh_writer_working_bytes(job.format, writes_in_background(source, job, threads)));
   return plan;
 }
 
@@ -303,7 +316,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     bool before = BufferedWriter::background_writes_allowed();
     explicit BackgroundWrites(bool allowed) { BufferedWriter::allow_background_writes(allowed); }
     ~BackgroundWrites() { BufferedWriter::allow_background_writes(before); }
-  } background_writes(writes_in_background(threads));
+  } background_writes(writes_in_background(source, job, threads));
   std::optional<NormalWindow> normal_window;
   if (threads == 1 && (job.normals || (want_picture && job.picture.smooth)))
     normal_window.emplace(report.volume, placement.spacing, job.input_label,
@@ -368,7 +381,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
       slabs.smooth_picture = picture && job.picture.smooth;
       report.result = run_slab_pipeline(source, job.threshold, engine, writer.get(), slabs,
                                         job.input_label, after_slice);
-    } else if (!job.read_ahead) {
+    } else if (!one_engine_helpers(source, job)) {
       report.result =
           run_pipeline(source, job.threshold, engine, sinks, job.input_label, after_slice);
     } else {

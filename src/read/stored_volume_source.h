@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mvox/slice_source.h"
+#include "read/copied_slices.h"
 #include "read/inflate_reader.h"
 #include "read/range_readable.h"
 #include "read/raw_file.h"
@@ -46,7 +47,7 @@ struct StoredVolumeData {
 // Throws mvox::Error naming the data file: cannot open, too short (both sizes), corrupt.
 // Raw data can be read from anywhere (RangeReadable): slab workers and mvox-mpi's ranks each
 // read their own slices; compressed data only in order.
-class StoredVolumeSource : public SliceSource, public RangeReadable {
+class StoredVolumeSource : public SliceSource, public RangeReadable, public CopiedSlices {
  public:
   StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data);
 
@@ -55,6 +56,7 @@ class StoredVolumeSource : public SliceSource, public RangeReadable {
   std::uint64_t working_bytes() const override;
 
   bool range_readable() const override { return volume_.compression == Compression::none; }
+  bool slices_are_copied() const override { return volume_.compression == Compression::none; }
   std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
 
   // The file the samples are read from: the header itself for attached data.

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "support/command_runner.h"
+#include "support/deflate.h"
 #include "support/dicom_writer.h"
 #include "support/file_io.h"
 #include "support/slab_run_checks.h"
@@ -174,9 +175,13 @@ TEST(SlabThreads, OneThreadOrAWorkerPerCoreMeansNoWritingThread) {
     }
     EXPECT_EQ(test::read_bytes(dir.path() / "m.ply"), one);
   }
-  // One engine and a reading thread, the default for a volume this small: the reading thread
-  // and the writer's.
-  EXPECT_GE(threads_started(run, dir), 3);
+  // One engine, the default for a volume this small: raw samples, read by its own thread, and
+  // no writing thread either (OneEngineReadsAheadOnlyWhereThereIsWorkToOverlap).
+  EXPECT_EQ(threads_started(run, dir), 1);
+  EXPECT_EQ(test::read_bytes(dir.path() / "m.ply"), one);
+  // Asked for two threads, and given one slab, the engine has a reading thread and the writer
+  // its own.
+  EXPECT_GE(threads_started(run + " --threads 2 --slab-slices 40", dir), 3);
   EXPECT_EQ(test::read_bytes(dir.path() / "m.ply"), one);
 }
 
@@ -260,7 +265,52 @@ TEST(SlabThreads, TheDefaultIsOneWorkerPerCoreForLargeVolumes) {
   }
   const std::string small = dry_run("small.raw", 1023);
   EXPECT_EQ(small.find("slab workers"), std::string::npos) << small;
-  EXPECT_NE(small.find("reading ahead"), std::string::npos) << small;
+  // Raw samples: the one engine reads them itself (see the next test).
+  EXPECT_EQ(small.find("reading ahead"), std::string::npos) << small;
+}
+
+// One engine takes a reading thread (and its writers one each) by default only where there is
+// work to overlap: slices to decode, a pipe to wait on, or a volume of 64 MiB or more. A small
+// volume of raw samples read from a file is read by the engine's own thread, and any volume is
+// when --threads asks for more than one.
+TEST(SlabThreads, OneEngineReadsAheadOnlyWhereThereIsWorkToOverlap) {
+  test::ScratchDirectory dir;
+  const std::vector<std::uint8_t> noise = test::noise_samples(64 * 48 * 20, 3);
+  const std::string samples(noise.begin(), noise.end());
+  test::write_bytes(dir / "v.raw", samples);
+  test::write_bytes(
+      dir / "raw.nrrd",
+      "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 64 48 20\nencoding: raw\n\n" + samples);
+  const std::vector<unsigned char> bytes(samples.begin(), samples.end());
+  const std::vector<unsigned char> gzip = test::deflate_bytes(bytes, true);
+  test::write_bytes(dir / "gzip.nrrd",
+                    "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 64 48 20\nencoding: gzip\n\n" +
+                        std::string(gzip.begin(), gzip.end()));
+  for (const bool deflate : {false, true}) {
+    const std::vector<unsigned char> tiff =
+        test::tiff_file_bytes(test::tiff_pages_of(samples, 64, 48, 0, 20, deflate));
+    test::write_bytes(dir / (deflate ? "deflate.tif" : "plain.tif"),
+                      std::string(tiff.begin(), tiff.end()));
+  }
+  ASSERT_EQ(run_mvox("phantom blobs -o stack --size 64x48x20 -q", dir.path()).exit_code, 0);
+
+  auto reads_ahead = [&](const std::string& input, const std::string& prefix = "") {
+    const test::CommandResult result =
+        run_mvox("extract " + input + " -t 128 -o m.ply --dry-run", dir.path(), prefix);
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    return result.output.find("reading ahead") != std::string::npos;
+  };
+  EXPECT_FALSE(reads_ahead("v.raw --raw 64x48x20:u8"));
+  EXPECT_FALSE(reads_ahead("raw.nrrd"));
+  EXPECT_FALSE(reads_ahead("plain.tif"));
+  EXPECT_TRUE(reads_ahead("gzip.nrrd"));
+  EXPECT_TRUE(reads_ahead("deflate.tif"));
+  EXPECT_TRUE(reads_ahead("stack"));
+  EXPECT_TRUE(reads_ahead("/dev/stdin --raw 64x48x20:u8", "cat v.raw |"));  // a pipe
+  EXPECT_FALSE(reads_ahead("/dev/stdin --raw 64x48x20:u8 < v.raw"));        // the file itself
+  // Asked for: 20 slices make one slab, so one engine, with its reading thread.
+  EXPECT_TRUE(reads_ahead("v.raw --raw 64x48x20:u8 --threads 2"));
+  EXPECT_FALSE(reads_ahead("stack --threads 1"));
 }
 
 // Files are read by each worker for its own slabs (stacks of images or raw slices, a raw volume

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "mvox/slice_source.h"
+#include "read/copied_slices.h"
 #include "read/range_readable.h"
 
 namespace mvox {
@@ -15,7 +16,7 @@ namespace mvox {
 // strides of a [z, y, x] array). The memory is borrowed: it must stay valid and unchanged while
 // the source streams. Samples in the host's byte order. Memory is readable from anywhere, by
 // any number of threads: slab workers each stream their own slab of it (RangeReadable).
-class MemoryVolumeSource : public SliceSource, public RangeReadable {
+class MemoryVolumeSource : public SliceSource, public RangeReadable, public CopiedSlices {
  public:
   MemoryVolumeSource(const void* samples, const VolumeInfo& info, std::ptrdiff_t slice_stride_bytes,
                      std::ptrdiff_t row_stride_bytes)
@@ -28,6 +29,7 @@ class MemoryVolumeSource : public SliceSource, public RangeReadable {
   const VolumeInfo& info() const override { return info_; }
 
   bool range_readable() const override { return true; }
+  bool slices_are_copied() const override { return true; }
   std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override {
     auto range = std::make_unique<MemoryVolumeSource>(samples_, info_, slice_stride_, row_stride_);
     range->next_ = first;

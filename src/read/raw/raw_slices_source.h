@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mvox/slice_source.h"
+#include "read/copied_slices.h"
 #include "read/range_readable.h"
 #include "read/raw/raw_format.h"
 #include "read/read_buffer.h"
@@ -21,7 +22,7 @@ namespace mvox {
 // order in place.
 // Throws mvox::Error: the constructor checks every file's size up front (a wrong size found
 // after an hour of streaming helps nobody); next_slice names the file on a read error.
-class RawSlicesSource : public SliceSource, public RangeReadable {
+class RawSlicesSource : public SliceSource, public RangeReadable, public CopiedSlices {
  public:
   RawSlicesSource(std::vector<std::string> files, const RawFormat& format);
 
@@ -31,6 +32,7 @@ class RawSlicesSource : public SliceSource, public RangeReadable {
 
   bool range_readable() const override { return true; }
   std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
+  bool slices_are_copied() const override { return true; }
 
  private:
   const std::vector<std::string>& files() const { return *files_; }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "mvox/slice_source.h"
+#include "read/copied_slices.h"
 #include "read/range_readable.h"
 #include "read/raw/raw_format.h"
 #include "read/raw_file.h"
@@ -25,7 +26,7 @@ namespace mvox {
 // order in place.
 // Throws mvox::Error naming the file when it cannot be opened, has the wrong size, or a read
 // fails.
-class RawVolumeSource : public SliceSource, public RangeReadable {
+class RawVolumeSource : public SliceSource, public RangeReadable, public CopiedSlices {
  public:
   static constexpr std::size_t kChunkBytes = 64 * 1024;
 
@@ -38,6 +39,8 @@ class RawVolumeSource : public SliceSource, public RangeReadable {
   // A file, not a pipe: slices [first, end) are read from their place in it.
   bool range_readable() const override { return !file_.is_stream(); }
   std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
+  // A pipe's slices come at its writer's pace: worth reading ahead.
+  bool slices_are_copied() const override { return !file_.is_stream(); }
 
  private:
   // Slices [first, end) of the volume file `path`, whose size the whole source checked.

@@ -386,6 +386,7 @@ TiffStackSource::TiffStackSource(const TiffStackSource& whole, std::uint32_t fir
       largest_deflate_chunk_(whole.largest_deflate_chunk_),
       largest_libtiff_chunk_(whole.largest_libtiff_chunk_),
       largest_chunk_count_(whole.largest_chunk_count_),
+      compressed_pages_(whole.compressed_pages_),
       next_index_(first),
       end_index_(std::min(end, whole.info_.depth)) {
   // The file holding slice `first`, and its page there; next_slice walks up to it.
@@ -455,6 +456,7 @@ void TiffStackSource::check_file(std::size_t file_index, std::uint64_t* pages) {
     }
     largest_tile_ = std::max(largest_tile_, buffers.tile);
     largest_chunk_count_ = std::max<std::uint64_t>(largest_chunk_count_, tags.chunk_offsets.size());
+    if (tags.compression != COMPRESSION_NONE) compressed_pages_ = true;
     if (is_deflate(tags.compression)) {
       largest_deflate_chunk_ = std::max(largest_deflate_chunk_, buffers.largest_chunk);
     } else if (tags.compression != COMPRESSION_NONE) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mvox/slice_source.h"
+#include "read/copied_slices.h"
 #include "read/range_readable.h"
 #include "read/read_buffer.h"
 #include "read/tiff/tiff_directory.h"
@@ -51,7 +52,7 @@ class TiffFile;
 // met while streaming and allocations that fail (naming the bytes asked for).
 // A file is read anywhere (RangeReadable): each slab worker opens its own files and walks
 // the directories up to its first page, so that decoding runs in parallel too.
-class TiffStackSource : public SliceSource, public RangeReadable {
+class TiffStackSource : public SliceSource, public RangeReadable, public CopiedSlices {
  public:
   explicit TiffStackSource(std::vector<std::string> files);
   ~TiffStackSource() override;
@@ -66,6 +67,8 @@ class TiffStackSource : public SliceSource, public RangeReadable {
 
   bool range_readable() const override { return true; }
   std::unique_ptr<SliceSource> open_range(std::uint32_t first, std::uint32_t end) const override;
+  // No page is compressed (the directories, all read when the stack was opened, say so).
+  bool slices_are_copied() const override { return !compressed_pages_; }
 
  private:
   // A source of slices [first, end) of `whole`'s stack, which has walked every directory.
@@ -103,6 +106,7 @@ class TiffStackSource : public SliceSource, public RangeReadable {
   std::uint64_t largest_deflate_chunk_ = 0;    // stored bytes of the largest deflate strip or tile
   std::uint64_t largest_libtiff_chunk_ = 0;    // ... of other compressed pages, which libtiff reads
   std::uint64_t largest_chunk_count_ = 0;      // strips or tiles of the page with the most
+  bool compressed_pages_ = false;              // any page's data compressed
   std::unique_ptr<TiffDirectoryReader> open_;  // the file being streamed
   TiffDirectory page_;                         // the page of open_ being read
   std::unique_ptr<TiffFile> libtiff_;  // open_ in libtiff, once a page needs libtiff to decode
