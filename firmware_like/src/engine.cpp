@@ -617,6 +617,9 @@ bool emit_cube(std::uint32_t cx, std::uint32_t cy, std::uint32_t z, unsigned con
     out.vertex_count = polygons.polygon_sizes[p];
     for (int i = 0; i < out.vertex_count; ++i)
       out.vertices[i] = edge_index[polygons.edges[offset + i]];
+    // Every slot written, as the fast paths write them (copy_polygon): sinks may load all seven
+    // (the host's polygon scan, binary PLY's records), and the workspace is not initialised.
+    for (int i = out.vertex_count; i < kMaxPolygonVertices; ++i) out.vertices[i] = 0;
     if (PolygonGeometry* geometry = emitter.next_geometry()) {
       // Cube cx holds voxel columns cx - 1 and cx; likewise rows and slices.
       const float x0 = static_cast<float>(cx) - 1.0f, y0 = static_cast<float>(cy) - 1.0f;
@@ -926,6 +929,7 @@ bool emit_layer_cubes_as(const EngineState& st, int lo, int hi, std::uint32_t z,
           Polygon& out = emitter.next_polygon();
           out.vertex_count = 3;
           for (int i = 0; i < 3; ++i) out.vertices[i] = edge_index[edges[i]];
+          for (int i = 3; i < kMaxPolygonVertices; ++i) out.vertices[i] = 0;  // as emit_cube
           if (PolygonGeometry* geometry = emitter.next_geometry()) {
             geometry->vertex_count = 3;
             for (int i = 0; i < 3; ++i) geometry->vertices[i] = placed[edges[i]];

@@ -89,13 +89,14 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
 constexpr std::uint64_t kAutoSlabVolumeBytes = std::uint64_t{64} << 20;
 
 // Whether a run with one engine takes a reading thread (PrefetchingSource) and lets its writers
-// write on a thread of their own: with job.read_ahead, always when --threads asked for more than
-// one (job.threads > 1), and by default (job.threads 0) only when they pay: slices to decode or
-// to wait for from a pipe (copied_slices.h), or a volume of kAutoSlabVolumeBytes or more. On a
-// small volume of raw samples, handing slices and buffers between the threads cost more than
-// the overlap saved: the paper's engine (8 MiB, raw) took 15.1 ms with them and 13.6 ms
-// without, and 10.0 against 8.0 MiB of memory; MRbrain's 99 PNG slices took 34.7 ms with them
-// and 41.6 ms without (hyperfine, 30 runs each, 2026-11-27).
+// write on a thread of their own. Never without job.read_ahead (--threads 1). When the caller
+// set job.threads (--threads N above 1; MeshJob's own default of 1, as demo and library callers
+// leave it), job.read_ahead alone decides. By default (job.threads 0) only when the threads
+// pay: slices to decode or to wait for from a pipe (copied_slices.h), or a volume of
+// kAutoSlabVolumeBytes or more. On a small volume of raw samples, handing slices and buffers
+// between the threads cost more than the overlap saved: the paper's engine (8 MiB, raw) took
+// 15.1 ms with them and 13.3 ms without, and 9.9 against 7.9 MiB of memory; MRbrain's 99 PNG
+// slices took 34.7 ms with them and 41.6 ms without (hyperfine, 30 runs each, 2026-11-27).
 bool one_engine_helpers(const SliceSource& source, const MeshJob& job);
 
 // Why the job must run on one engine whatever --threads says, or null: frames and the live

@@ -311,6 +311,10 @@ TEST(SlabThreads, OneEngineReadsAheadOnlyWhereThereIsWorkToOverlap) {
   // Asked for: 20 slices make one slab, so one engine, with its reading thread.
   EXPECT_TRUE(reads_ahead("v.raw --raw 64x48x20:u8 --threads 2"));
   EXPECT_FALSE(reads_ahead("stack --threads 1"));
+  // The run does as its plan says: the PNG stack's slices come from a reading thread, the raw
+  // file's from the engine's own (beside the thread that waits for Ctrl-C, as ever).
+  EXPECT_GE(threads_started("extract stack -t 128 -o m.ply -q", dir), 2);
+  EXPECT_EQ(threads_started("extract v.raw --raw 64x48x20:u8 -t 128 -o m.ply -q", dir), 1);
 }
 
 // Files are read by each worker for its own slabs (stacks of images or raw slices, a raw volume

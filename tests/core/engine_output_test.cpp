@@ -159,6 +159,53 @@ TEST(EngineOutput, CountersAgreeWithTheEmittedMesh) {
   EXPECT_EQ(mesh.forward_references, 0u);
 }
 
+// Sinks may load all seven index slots of a polygon, whatever its count (the host's polygon scan
+// and binary PLY's records do): every path writes each slot, those past the count too (0, or an
+// index of the cube). The workspace here starts filled with a pattern no index of this volume
+// takes, as an uninitialised one may hold anything.
+TEST(EngineOutput, EveryIndexSlotOfEveryPolygonIsWritten) {
+  const auto volume = noise_volume(37, 23, 9, 8);
+  constexpr std::uint32_t kPattern = 0xa5a5a5a5;
+  struct SlotCheck final : PolygonSink {
+    Status consume_vertices(const Vertex*, std::size_t) override { return Status::ok; }
+    Status consume_polygons(const Polygon* polygons, std::size_t count) override {
+      for (std::size_t p = 0; p < count; ++p)
+        for (std::uint32_t slot : polygons[p].vertices) unwritten += slot == kPattern;
+      this->polygons += count;
+      return Status::ok;
+    }
+    Status consume_polygon_geometry(const PolygonGeometry*, std::size_t) override {
+      return Status::ok;
+    }
+    std::uint64_t polygons = 0, unwritten = 0;
+  };
+  EngineOptions fast, literal, cubes, geometry;
+  literal.kind = EngineKind::literal;
+  cubes.method = SurfaceMethod::cubes;
+  geometry.polygon_geometry = true;
+  for (const EngineOptions& options : {fast, literal, cubes, geometry}) {
+    SCOPED_TRACE(std::string(options.kind == EngineKind::literal ? "literal" : "fast") +
+                 (options.method == SurfaceMethod::cubes ? " cubes" : "") +
+                 (options.polygon_geometry ? " geometry" : ""));
+    const std::size_t bytes = engine_workspace_bytes(volume.width, volume.height, options);
+    test::Workspace workspace(bytes);
+    std::memset(workspace.data(), kPattern & 0xff, bytes);
+    SlotCheck sink;
+    Engine engine;
+    ASSERT_EQ(
+        engine.init(workspace.data(), bytes, volume.width, volume.height, 128, options, &sink),
+        Status::ok);
+    for (std::uint32_t z = 0; z < volume.depth; ++z) {
+      const SliceView slice{volume.samples.data() + std::size_t{z} * volume.width * volume.height,
+                            volume.width, volume.height, volume.width, SampleType::u8};
+      ASSERT_EQ(engine.push_slice(slice), Status::ok);
+    }
+    ASSERT_EQ(engine.finish(), Status::ok);
+    EXPECT_GT(sink.polygons, 1000u);
+    EXPECT_EQ(sink.unwritten, 0u);
+  }
+}
+
 // The fast path counts polygons by size in one register's 16-bit lanes, spilled when a batch is
 // full, when a layer ends, and, in batches larger than a lane holds, between: a layer of this
 // noise has about 200,000 polygons, more than 65,535 of one size between two full batches of

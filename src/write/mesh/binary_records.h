@@ -77,8 +77,9 @@ void put_ply_faces(Sink& sink, const Polygon* faces, std::size_t face_count,
       // All seven index slots, whatever the count, as two overlapping runs of four (slots 0-3
       // and 3-6): fixed sizes, which the compiler makes two vector loads, adds and stores, where
       // a loop of `corners` stores cost more than the rest of the function. The slots past this
-      // face's corners lie inside its largest record's room: the next record overwrites them,
-      // or they stay past the bytes committed.
+      // face's corners hold whatever the polygon's maker put there (the engine writes every
+      // slot) and land inside its largest record's room: the next record overwrites them, or
+      // they stay past the bytes committed.
       static_assert(kMaxPolygonVertices == 7, "two runs of four index slots");
       std::uint32_t first_four[4], last_four[4];
       for (int k = 0; k < 4; ++k) first_four[k] = face.vertices[k] + index_offset;
