@@ -16,6 +16,7 @@
 #include "mvox/polygon_sink.h"
 #include "mvox/vertex_normals.h"
 #include "write/mesh/face_formatter.h"
+#include "write/mesh/uninitialized_array.h"
 #include "write/mesh/vertex_placement.h"
 #include "write/mesh/vertex_text_formatter.h"
 
@@ -57,9 +58,9 @@ struct SlabChunk {
     std::uint32_t count;
   };
   std::vector<Call> calls;
-  // Placed vertices: the first placed_count. It keeps the size it has grown to when cleared, so
-  // that appending a batch does not zero it first, as growing a vector would.
-  std::vector<WorldVertex> placed;
+  // Placed vertices: the first placed_count. Growing leaves them unwritten (place() writes
+  // each), and it keeps its size when cleared.
+  UninitializedArray<WorldVertex> placed;
   std::size_t placed_count = 0;
   std::vector<Vertex> vertices;    // batches left unplaced (reserved only when needed)
   std::vector<glm::vec3> normals;  // theirs, when the slab computes normals

@@ -1,13 +1,14 @@
 #pragma once
 #include <cstddef>
-#include <vector>
+
+#include "write/mesh/uninitialized_array.h"
 
 namespace mvox {
 
 // Formatted records, appended: a slab worker's faces (face_formatter.h) or vertex lines
 // (vertex_text_formatter.h), made ahead of the file. A Sink for binary_records.h. Its storage
-// only grows, and keeps its size when emptied, so that appending never zeroes bytes a second
-// time (as resizing a vector would each time it is refilled).
+// only grows, keeps its size when emptied, and leaves the room it grows by unwritten
+// (uninitialized_array.h): every byte appended is written by the formatter first.
 class FormattedRecords {
  public:
   void* reserve(std::size_t bytes) {
@@ -24,7 +25,7 @@ class FormattedRecords {
   std::size_t size() const { return used_; }
 
  private:
-  std::vector<unsigned char> storage_;
+  UninitializedArray<unsigned char> storage_;
   std::size_t used_ = 0;
 };
 
