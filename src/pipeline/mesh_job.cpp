@@ -22,6 +22,7 @@
 #include "postprocess/edge_smoothing.h"
 #include "read/copied_slices.h"
 #include "write/buffered_writer.h"
+#include "write/deferred_close.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
 #include "write/slice_image_writer.h"
@@ -445,6 +446,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (picture && picture->image_file()) sealed.push_back(picture->image_file());
   if (stats_file) sealed.push_back(&*stats_file);
   publish_together(sealed);
+  finish_deferred_closes();  // the scratch files' pages, freed while publishing
   if (!job.quiet) print_run_summary(report);
   return report;
 }

@@ -10,6 +10,7 @@
 
 #include "error.h"
 #include "pipeline/termination.h"
+#include "write/deferred_close.h"
 #include "write/output_file.h"
 
 namespace mvox {
@@ -60,10 +61,12 @@ void ScratchFile::read_at(std::uint64_t offset, void* data, std::size_t size) {
 void ScratchFile::copy_to(OutputFile& out) {
   if (const int error = writer_.flush()) fail_write(error);
   out.append_file(writer_.fd(), writer_.bytes_written(), subject_);
-  // The last use: the descriptor and the buffers go now, not when the owner does.
+  // The last use: the descriptor and the buffers go now, not when the owner does; the pages go
+  // on another thread while the run publishes (deferred_close.h).
   const int fd = writer_.fd();
+  const std::uint64_t bytes = writer_.bytes_written();
   writer_.set_fd(-1);
-  ::close(fd);
+  close_when_unneeded(fd, bytes);
   writer_.release();
 }
 
