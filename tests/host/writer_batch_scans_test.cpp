@@ -167,6 +167,45 @@ TEST(VertexPlacement, AFastBatchNamesTheSameFirstVertexBeyondFloatsRangeAsThePla
   }
 }
 
+// Binary PLY without normals takes the positions alone, placed straight into its buffer
+// (place_positions): the bytes of place()'s floats, little-endian, 12 a vertex, never past the
+// slack asked for, and the same first vertex named beyond float's range; on identity,
+// axis-aligned and rotated axes.
+TEST(VertexPlacement, PositionsAloneAreThePlacedFloatsAndStayInTheirRoom) {
+  WorldTransform identity, negative_zero, spaced, rotated, beyond;
+  negative_zero.origin = {-0.0, 0.0, -0.0};
+  spaced.spacing = {0.3, 0.7, 2.5};
+  spaced.origin = {-120.25, 33.5, 1e-3};
+  rotated.axes = {{{0, -1, 0}, {-1, 0, 0}, {0, 0.1, 1}}};
+  beyond.spacing = {1.0, 1e36, 1.0};  // y beyond 340 leaves float's range
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> coordinate(-0.5f, 300.0f);
+  std::vector<Vertex> vertices(3001);
+  for (Vertex& v : vertices) {
+    v = {coordinate(random), coordinate(random), coordinate(random)};
+    v.axis = static_cast<Axis>(random() % 3);
+  }
+  vertices[0] = {-0.0f, 0.0f, -0.0f};
+  vertices[2999].y = 400.0f;  // only `beyond` takes it out of float's range
+  for (const WorldTransform* transform : {&identity, &negative_zero, &spaced, &rotated, &beyond}) {
+    transform->check("test");
+    const VertexPlacement placement(*transform, false);
+    for (std::size_t count : {std::size_t{1}, std::size_t{2}, vertices.size()}) {
+      std::vector<WorldVertex> placed(count);
+      const std::size_t placed_count =
+          placement.place(vertices.data(), nullptr, count, placed.data());
+      constexpr unsigned char kGuard = 0x5a;
+      const std::size_t room = count * 12 + VertexPlacement::kPositionSlack;
+      std::vector<unsigned char> records(room + 16, kGuard);
+      EXPECT_EQ(placement.place_positions(vertices.data(), count, records.data()), placed_count);
+      for (std::size_t i = room; i < records.size(); ++i)
+        ASSERT_EQ(records[i], kGuard) << "past the room, byte " << i - room;
+      for (std::size_t i = 0; i < placed_count; ++i)
+        ASSERT_EQ(std::memcmp(&records[12 * i], placed[i].position, 12), 0) << "vertex " << i;
+    }
+  }
+}
+
 // A coordinate that is not finite is refused on every fast path as by the plain loop: on the
 // identity path (a raw volume's default), on the axis-aligned one, and for corners on rotated
 // axes. (The engine never makes one; the check keeps the conversion to float defined.)

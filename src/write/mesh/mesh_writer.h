@@ -157,6 +157,9 @@ class MeshWriter : public PolygonSink {
   // null for a writer that keeps the mesh in memory (mesh_arrays.h).
   virtual OutputFile* output_file() = 0;
 
+  // The most vertices placed straight into a writer's buffer at a time (reserve_positions).
+  static constexpr std::size_t kPositionsPerRun = 8192;
+
  protected:
   enum class Faces : std::uint8_t { as_polygons, as_triangles };
   enum class Positions : std::uint8_t { not_needed, needed };
@@ -172,6 +175,14 @@ class MeshWriter : public PolygonSink {
   // Faces carry indices modulo 2^32 (mvox/mesh.h): whole_vertex_index(index, vertices_written())
   // is the whole one, the same number while fewer than 2^32 vertices have been written.
   virtual void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) = 0;
+  // For a format whose vertex records are the positions alone, as VertexPlacement::
+  // place_positions() makes them (binary PLY without normals): room in the file's buffer for
+  // `count` records and VertexPlacement::kPositionSlack bytes more, count at most
+  // kPositionsPerRun. The vertices are then placed straight into it, and commit_positions()
+  // appends them, instead of a placed batch going to write_vertices(). Null (the default): the
+  // format takes placed vertices.
+  virtual unsigned char* reserve_positions(std::size_t /*count*/) { return nullptr; }
+  virtual void commit_positions(std::size_t /*count*/) {}
   // `positions` has one entry per face when the writer asked for them, else it is null. Each
   // index plus `index_offset`, modulo 2^32, is the index to write.
   virtual void write_faces(const Polygon* faces, const FacePositions* positions,
@@ -196,6 +207,10 @@ class MeshWriter : public PolygonSink {
   void check_vertex_room(std::size_t vertex_count) const;
   // `given`: the batch's normals when the caller computed them (normals_given), else null.
   void place_vertices(const Vertex* vertices, const glm::vec3* given, std::size_t vertex_count);
+  // Places the batch straight into the file's buffer (reserve_positions); false when the format
+  // takes placed vertices. Throws, naming the vertex as place_vertices() does, when one leaves
+  // float's range.
+  bool write_positions(const Vertex* vertices, std::size_t vertex_count);
   // Throws unless every polygon has 3 to kMaxPolygonVertices vertices, each already consumed
   // (once moved by `index_offset`).
   void check_polygons(const Polygon* polygons, std::size_t polygon_count,

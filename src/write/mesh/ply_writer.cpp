@@ -152,6 +152,23 @@ void PlyWriter::write_formatted_vertices(const unsigned char* records, std::size
   }
 }
 
+unsigned char* PlyWriter::reserve_positions(std::size_t count) {
+  // Binary without normals: a vertex record is its position (ply_vertex_record_bytes).
+  if (format_ != PlyFormat::binary_little_endian || options().writes_normals()) return nullptr;
+  const std::size_t bytes = count * ply_vertex_record_bytes(false) + VertexPlacement::kPositionSlack;
+  void* const room = vertex_spool_ ? vertex_spool_->reserve(bytes) : out_.reserve(bytes);
+  return static_cast<unsigned char*>(room);
+}
+
+void PlyWriter::commit_positions(std::size_t count) {
+  const std::size_t bytes = count * ply_vertex_record_bytes(false);
+  if (vertex_spool_) {
+    vertex_spool_->commit(bytes);
+  } else {
+    out_.commit(bytes);
+  }
+}
+
 void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
                             std::uint32_t index_offset) {
   if (format_ == PlyFormat::ascii) {

@@ -66,6 +66,8 @@ class PlyWriter final : public MeshWriter {
   void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
                    std::uint32_t index_offset) override;
   void write_formatted_vertices(const unsigned char* records, std::size_t bytes) override;
+  unsigned char* reserve_positions(std::size_t count) override;
+  void commit_positions(std::size_t count) override;
   void complete_file() override;
   template <class Sink>
   void write_vertices_to(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count);

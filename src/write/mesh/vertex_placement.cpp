@@ -5,6 +5,8 @@
 #include <cstring>
 #include <limits>
 
+#include "write/mesh/little_endian.h"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #define MVOX_PLACEMENT_SSE2 1
@@ -47,10 +49,12 @@ static_assert(offsetof(WorldVertex, position) == 0 && offsetof(WorldVertex, norm
 // Identity axes: origin + spacing * v per axis, in double as WorldTransform::axis_aligned_position
 // computes it (the same two roundings, so the same floats), x and y in one register and z in
 // another. Whether every coordinate fits a float is folded over the batch, not branched on per
-// vertex; false when one does not (its float and those after it are then not to be used). Each
-// store writes the position and 0 into normal[0], which a caller with normals fills afterwards.
+// vertex; false when one does not (its float and those after it are then not to be used).
+// Vertex i's position goes to out + i * stride bytes as one unaligned 16-byte store, whose last
+// 4 bytes are 0: a WorldVertex's normal[0], which a caller with normals fills afterwards, or the
+// next packed record's x, which the next store writes.
 bool place_axis_aligned(const Vertex* vertices, std::size_t count, const WorldTransform& transform,
-                        bool identity, WorldVertex* out) {
+                        bool identity, unsigned char* out, std::size_t stride) {
   const __m128 only_xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
   if (identity) {
     // Spacing 1 and origin 0 (a raw volume's default): 0 + 1 * v is v itself, except that
@@ -63,7 +67,7 @@ bool place_axis_aligned(const Vertex* vertices, std::size_t count, const WorldTr
       std::memcpy(&vertex, &vertices[i], sizeof vertex);
       vertex = _mm_add_ps(_mm_and_ps(vertex, only_xyz), _mm_setzero_ps());
       inside = _mm_and_ps(inside, _mm_cmple_ps(_mm_andnot_ps(sign, vertex), largest));
-      _mm_storeu_ps(out[i].position, vertex);
+      _mm_storeu_ps(reinterpret_cast<float*>(out + i * stride), vertex);
     }
     return _mm_movemask_ps(inside) == 15;
   }
@@ -86,7 +90,8 @@ bool place_axis_aligned(const Vertex* vertices, std::size_t count, const WorldTr
     // A double beyond float's range converts by the instruction's rule (an infinity or the
     // largest float, by rounding), not C++'s undefined one, and the batch is then placed again
     // the careful way.
-    _mm_storeu_ps(out[i].position, _mm_movelh_ps(_mm_cvtpd_ps(world_xy), _mm_cvtpd_ps(world_z)));
+    _mm_storeu_ps(reinterpret_cast<float*>(out + i * stride),
+                  _mm_movelh_ps(_mm_cvtpd_ps(world_xy), _mm_cvtpd_ps(world_z)));
   }
   return _mm_movemask_pd(inside) == 3;
 }
@@ -99,7 +104,9 @@ std::size_t VertexPlacement::place(const Vertex* vertices, const glm::vec3* norm
 #if MVOX_PLACEMENT_SSE2
   // The common case, identity axes, in one pass without a branch per vertex; a batch with a
   // vertex beyond float's range goes through the loop below, which names the first.
-  if (axis_aligned_ && place_axis_aligned(vertices, count, transform_, identity_, out)) {
+  if (axis_aligned_ &&
+      place_axis_aligned(vertices, count, transform_, identity_,
+                         reinterpret_cast<unsigned char*>(out), sizeof(WorldVertex))) {
     if (with_normals_)  // identity axes keep each normal as computed (see below)
       for (std::size_t i = 0; i < count; ++i)
         for (int axis = 0; axis < 3; ++axis) out[i].normal[axis] = normals[i][axis];
@@ -122,6 +129,27 @@ std::size_t VertexPlacement::place(const Vertex* vertices, const glm::vec3* norm
       const glm::vec3 normal =
           axis_aligned_ ? normals[i] : world_normal(normal_matrix_, normals[i]);
       for (int axis = 0; axis < 3; ++axis) placed.normal[axis] = normal[axis];
+    }
+  }
+  return count;
+}
+
+std::size_t VertexPlacement::place_positions(const Vertex* vertices, std::size_t count,
+                                             unsigned char* out) const {
+#if MVOX_PLACEMENT_SSE2 && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  // Packed records of three floats, each vertex one 16-byte store (the 4 bytes past a record
+  // are the next record's, or kPositionSlack).
+  if (axis_aligned_ && place_axis_aligned(vertices, count, transform_, identity_, out, 12))
+    return count;
+#endif
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vertex& vertex = vertices[i];
+    const Vector3d world = axis_aligned_
+                               ? transform_.axis_aligned_position(vertex.x, vertex.y, vertex.z)
+                               : transform_.position(vertex.x, vertex.y, vertex.z);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max())) return i;
+      out = store_le_float(out, static_cast<float>(world[axis]));
     }
   }
   return count;

@@ -30,6 +30,13 @@ class VertexPlacement {
   // whose place and those after it are unspecified, or `count` when every one fits.
   std::size_t place(const Vertex* vertices, const glm::vec3* normals, std::size_t count,
                     WorldVertex* out) const;
+  // The positions alone, as the records of a binary format without normals: x, y, z as
+  // little-endian floats, 12 bytes a vertex, the same floats place() gives. `out` must have
+  // room for count * 12 + kPositionSlack bytes (each vertex may be stored as 16). Returns count,
+  // or the index of the first vertex whose position leaves float's range (the records are then
+  // unspecified). Only without normals.
+  static constexpr std::size_t kPositionSlack = 4;
+  std::size_t place_positions(const Vertex* vertices, std::size_t count, unsigned char* out) const;
 
   bool with_normals() const { return with_normals_; }
 
