@@ -1,6 +1,9 @@
 #include "write/mesh/corner_placement.h"
 
 #include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -10,9 +13,19 @@ namespace mvox {
 
 CornerPlacement::CornerPlacement(const WorldTransform& transform) : transform_(transform) {
   plain_sum_ = transform.is_axis_aligned();
-  for (int axis = 0; axis < 3; ++axis)
+  identity_ = plain_sum_;
+  for (int axis = 0; axis < 3; ++axis) {
     if (transform.origin[axis] == 0.0 && std::signbit(transform.origin[axis])) plain_sum_ = false;
+    if (transform.spacing[axis] != 1.0 || transform.origin[axis] != 0.0) identity_ = false;
+  }
+  identity_ = identity_ && plain_sum_;
 }
+
+#if defined(__SSE2__)
+static_assert(sizeof(Vertex) == 16 && offsetof(Vertex, x) == 0 && offsetof(Vertex, y) == 4 &&
+                  offsetof(Vertex, z) == 8,
+              "a vertex is x, y, z and four bytes more: one 16-byte load");
+#endif
 
 bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) const {
 #if defined(__SSE2__)
@@ -32,6 +45,23 @@ bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) 
     _mm_storel_pi(reinterpret_cast<__m64*>(out[i]), _mm_cvtpd_ps(xy));
     out[i][2] = _mm_cvtss_f32(_mm_cvtsd_ss(_mm_setzero_ps(), z));
   };
+  if (identity_) {
+    // v + 0.0f a corner, in floats: what the sums in double round back to. Finite or not is
+    // folded over the corners.
+    const __m128 only_xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 largest_float = _mm_set1_ps(std::numeric_limits<float>::max());
+    const __m128 float_sign = _mm_set1_ps(-0.0f);
+    __m128 finite = _mm_cmpeq_ps(largest_float, largest_float);
+    for (int i = 0; i < count; ++i) {
+      __m128 v;
+      std::memcpy(&v, &vertices[i], sizeof v);
+      v = _mm_add_ps(_mm_and_ps(v, only_xyz), _mm_setzero_ps());
+      finite = _mm_and_ps(finite, _mm_cmple_ps(_mm_andnot_ps(float_sign, v), largest_float));
+      _mm_storel_pi(reinterpret_cast<__m64*>(out[i]), v);  // x and y
+      out[i][2] = _mm_cvtss_f32(_mm_movehl_ps(v, v));
+    }
+    return _mm_movemask_ps(finite) == 15;
+  }
   if (plain_sum_) {
     // origin + spacing * v, as WorldTransform::axis_aligned_position.
     const __m128d spacing_xy = _mm_setr_pd(t.spacing[0], t.spacing[1]);

@@ -22,6 +22,9 @@ class CornerPlacement {
   // position() is origin + spacing * v per axis, bit for bit: identity axes, and no origin
   // coordinate -0 (position() adds the other axes' zero terms, and -0 + +0 is +0).
   bool plain_sum_;
+  // And spacing 1, origin +0 (a raw volume's default): +0 + 1 * v is v itself, in float, but
+  // for -0, which becomes +0 as adding +0.0f makes it.
+  bool identity_;
 };
 
 }  // namespace mvox
