@@ -23,7 +23,6 @@
 #include "read/input_format.h"
 #include "read/raw/raw_format.h"
 #include "write/buffered_writer.h"
-#include "write/deferred_close.h"
 
 namespace mvox {
 namespace {
@@ -140,7 +139,6 @@ void run_labels(const ExtractArguments& args) {
   job.quiet = args.quiet;
   job.pieces = args.pieces;
   BufferedWriter::allow_background_writes(false);  // one thread: see check_label_options
-  allow_deferred_closes(false);
   run_label_job(*input.source, job);
 }
 
@@ -287,7 +285,6 @@ void run_extract(const ExtractArguments& args, const ExtractRunner& runner) {
   job.threads = args.threads;  // 0: chosen by the volume's size (MeshJob::threads)
   job.read_ahead = args.threads != 1;
   BufferedWriter::allow_background_writes(args.threads != 1);
-  allow_deferred_closes(args.threads != 1);
   if (runner) {
     runner(*source, job);
   } else {

@@ -313,6 +313,9 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   // Every output is created before extraction starts, so a bad path fails at once, not after a
   // long run; they appear together, and only when everything has succeeded.
   const unsigned threads = slab_threads(source, job);
+  // Unless the run must take one thread: a large scratch file, once copied, is closed on a
+  // thread of its own, waited for when the run ends, by an exception too (deferred_close.h).
+  const DeferredCloses deferred_closes(BufferedWriter::background_writes_allowed());
   struct BackgroundWrites {
     bool before = BufferedWriter::background_writes_allowed();
     explicit BackgroundWrites(bool allowed) { BufferedWriter::allow_background_writes(allowed); }
@@ -445,8 +448,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
   if (writer) sealed.push_back(writer->output_file());
   if (picture && picture->image_file()) sealed.push_back(picture->image_file());
   if (stats_file) sealed.push_back(&*stats_file);
-  publish_together(sealed);
-  finish_deferred_closes();  // the scratch files' pages, freed while publishing
+  publish_together(sealed);  // while the scratch files' pages are freed (deferred_closes)
   if (!job.quiet) print_run_summary(report);
   return report;
 }

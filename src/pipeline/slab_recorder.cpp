@@ -206,7 +206,7 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
     }
     const std::size_t first = chunk_->placed_count;
     // Room was reserved for a full chunk and one batch more (SlabChunk::reserve); grown only
-    // as far as it is used, each part zeroed once in the chunk's life.
+    // as far as it is used, and left unwritten until place() writes it.
     if (chunk_->placed.size() < first + count) chunk_->placed.resize(first + count);
     const std::size_t outside = placement_->place(vertices, normals, count, &chunk_->placed[first]);
     if (outside == count) {

@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <atomic>
 #include <mutex>
 #include <thread>
 #include <utility>
@@ -11,51 +10,65 @@
 namespace mvox {
 namespace {
 
-// The closing threads not yet joined. A function-local static, so that it is destroyed (and its
-// threads joined) at exit after any run that used it.
-struct ClosingThreads {
+// The allowing scopes open now and the closing threads they have not joined yet. A
+// function-local static; its destructor joins what a scope could not (none, unless a scope
+// outlives main).
+struct Closing {
   std::mutex mutex;
+  int scopes = 0;
   std::vector<std::thread> threads;
 
-  void join_all() {
-    std::vector<std::thread> joining;
-    {
-      const std::lock_guard<std::mutex> lock(mutex);
-      joining.swap(threads);
-    }
-    for (std::thread& thread : joining) thread.join();
+  std::vector<std::thread> take_threads() {
+    const std::lock_guard<std::mutex> lock(mutex);
+    return std::exchange(threads, {});
   }
-  ~ClosingThreads() { join_all(); }
+  ~Closing() {
+    for (std::thread& thread : take_threads()) thread.join();
+  }
 };
 
-ClosingThreads& closing_threads() {
-  static ClosingThreads threads;
-  return threads;
+Closing& closing() {
+  static Closing state;
+  return state;
 }
-
-std::atomic<bool> deferred_closes_allowed{true};
 
 }  // namespace
 
-void allow_deferred_closes(bool allowed) { deferred_closes_allowed = allowed; }
+DeferredCloses::DeferredCloses(bool allowed) : active_(allowed) {
+  if (!active_) return;
+  Closing& state = closing();
+  const std::lock_guard<std::mutex> lock(state.mutex);
+  ++state.scopes;
+}
+
+DeferredCloses::~DeferredCloses() {
+  if (!active_) return;
+  Closing& state = closing();
+  {
+    const std::lock_guard<std::mutex> lock(state.mutex);
+    --state.scopes;
+  }
+  // Joins the threads of a scope open on another thread too, if any: they only close a file.
+  for (std::thread& thread : state.take_threads()) thread.join();
+}
 
 void close_when_unneeded(int fd, unsigned long long bytes) {
   if (fd < 0) return;
-  if (deferred_closes_allowed && bytes >= kDeferredCloseBytes) {
-    ClosingThreads& closing = closing_threads();
+  if (bytes >= kDeferredCloseBytes) {
+    Closing& state = closing();
     try {
-      const std::lock_guard<std::mutex> lock(closing.mutex);
-      // Room first, so that once the thread runs nothing can throw and leave it unjoined.
-      closing.threads.reserve(closing.threads.size() + 1);
-      closing.threads.emplace_back([fd] { ::close(fd); });
-      return;
+      const std::lock_guard<std::mutex> lock(state.mutex);
+      if (state.scopes > 0) {
+        // Room first, so that once the thread runs nothing can throw and leave it unjoined.
+        state.threads.reserve(state.threads.size() + 1);
+        state.threads.emplace_back([fd] { ::close(fd); });
+        return;
+      }
     } catch (...) {
       // No memory or no thread to be had: closed here, as with one thread.
     }
   }
   ::close(fd);
 }
-
-void finish_deferred_closes() { closing_threads().join_all(); }
 
 }  // namespace mvox

@@ -1,6 +1,7 @@
-// close_when_unneeded (src/write/deferred_close.h): a large file is closed by another thread,
-// and closed for certain once finish_deferred_closes() returns; a small file, or any file when
-// deferred closes are not allowed (--threads 1), is closed before the call returns.
+// close_when_unneeded (src/write/deferred_close.h): inside an allowing DeferredCloses scope a
+// large file is closed by a thread of its own, and closed for certain once the scope ends, by an
+// exception too; a small file, any file in a scope that does not allow it (--threads 1), and any
+// file outside every scope (the Python module's writers) is closed before the call returns.
 #include "write/deferred_close.h"
 
 #include <fcntl.h>
@@ -8,6 +9,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <stdexcept>
 
 namespace mvox {
 namespace {
@@ -20,38 +22,56 @@ int open_scratch() {
 
 bool is_open(int fd) { return ::fcntl(fd, F_GETFD) != -1 || errno != EBADF; }
 
-TEST(DeferredClose, ALargeFileIsClosedByTheTimeTheRunFinishes) {
-  allow_deferred_closes(true);
-  const int fd = open_scratch();
-  close_when_unneeded(fd, kDeferredCloseBytes);
-  finish_deferred_closes();
+TEST(DeferredClose, ALargeFileIsClosedByTheTimeTheScopeEnds) {
+  int fd = -1;
+  {
+    const DeferredCloses scope(true);
+    fd = open_scratch();
+    close_when_unneeded(fd, kDeferredCloseBytes);
+  }
+  EXPECT_FALSE(is_open(fd));
+}
+
+TEST(DeferredClose, AScopeEndedByAnExceptionStillWaits) {
+  int fd = -1;
+  try {
+    const DeferredCloses scope(true);
+    fd = open_scratch();
+    close_when_unneeded(fd, kDeferredCloseBytes);
+    throw std::runtime_error("the run failed after its copy");
+  } catch (const std::runtime_error&) {
+  }
   EXPECT_FALSE(is_open(fd));
 }
 
 TEST(DeferredClose, ASmallFileIsClosedAtOnce) {
-  allow_deferred_closes(true);
+  const DeferredCloses scope(true);
   const int fd = open_scratch();
   close_when_unneeded(fd, kDeferredCloseBytes - 1);
   EXPECT_FALSE(is_open(fd));
-  finish_deferred_closes();
 }
 
-TEST(DeferredClose, WithOneThreadEveryFileIsClosedAtOnce) {
-  allow_deferred_closes(false);
+TEST(DeferredClose, WithOneThreadOrNoScopeEveryFileIsClosedAtOnce) {
+  {
+    const DeferredCloses scope(false);
+    const int fd = open_scratch();
+    close_when_unneeded(fd, kDeferredCloseBytes * 4);
+    EXPECT_FALSE(is_open(fd));
+  }
   const int fd = open_scratch();
   close_when_unneeded(fd, kDeferredCloseBytes * 4);
   EXPECT_FALSE(is_open(fd));
-  allow_deferred_closes(true);
 }
 
 TEST(DeferredClose, ManyClosesAreAllFinished) {
-  allow_deferred_closes(true);
   int fds[20];
-  for (int& fd : fds) {
-    fd = open_scratch();
-    close_when_unneeded(fd, kDeferredCloseBytes);
+  {
+    const DeferredCloses scope(true);
+    for (int& fd : fds) {
+      fd = open_scratch();
+      close_when_unneeded(fd, kDeferredCloseBytes);
+    }
   }
-  finish_deferred_closes();
   for (int fd : fds) EXPECT_FALSE(is_open(fd)) << fd;
 }
 
