@@ -99,6 +99,17 @@ bool place_axis_aligned(const Vertex* vertices, std::size_t count, const WorldTr
 }  // namespace
 #endif
 
+bool VertexPlacement::world_floats(const Vertex& vertex, float position[3]) const {
+  const Vector3d world = axis_aligned_
+                             ? transform_.axis_aligned_position(vertex.x, vertex.y, vertex.z)
+                             : transform_.position(vertex.x, vertex.y, vertex.z);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max())) return false;
+    position[axis] = static_cast<float>(world[axis]);
+  }
+  return true;
+}
+
 std::size_t VertexPlacement::place(const Vertex* vertices, const glm::vec3* normals,
                                    std::size_t count, WorldVertex* out) const {
 #if MVOX_PLACEMENT_SSE2
@@ -114,15 +125,8 @@ std::size_t VertexPlacement::place(const Vertex* vertices, const glm::vec3* norm
   }
 #endif
   for (std::size_t i = 0; i < count; ++i) {
-    const Vertex& vertex = vertices[i];
-    const Vector3d world = axis_aligned_
-                               ? transform_.axis_aligned_position(vertex.x, vertex.y, vertex.z)
-                               : transform_.position(vertex.x, vertex.y, vertex.z);
     WorldVertex& placed = out[i];
-    for (int axis = 0; axis < 3; ++axis) {
-      if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max())) return i;
-      placed.position[axis] = static_cast<float>(world[axis]);
-    }
+    if (!world_floats(vertices[i], placed.position)) return i;
     if (with_normals_) {
       // Identity axes keep the normal exactly as computed: renormalising would change it by an
       // ulp for nothing.
@@ -143,14 +147,9 @@ std::size_t VertexPlacement::place_positions(const Vertex* vertices, std::size_t
     return count;
 #endif
   for (std::size_t i = 0; i < count; ++i) {
-    const Vertex& vertex = vertices[i];
-    const Vector3d world = axis_aligned_
-                               ? transform_.axis_aligned_position(vertex.x, vertex.y, vertex.z)
-                               : transform_.position(vertex.x, vertex.y, vertex.z);
-    for (int axis = 0; axis < 3; ++axis) {
-      if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max())) return i;
-      out = store_le_float(out, static_cast<float>(world[axis]));
-    }
+    float position[3];
+    if (!world_floats(vertices[i], position)) return i;
+    for (int axis = 0; axis < 3; ++axis) out = store_le_float(out, position[axis]);
   }
   return count;
 }

@@ -4,7 +4,6 @@
 // given; slab workers place their own batches before the writer takes them
 // (pipeline/slab_recorder.h), so that this work runs in parallel, with the same floats.
 #include <cstddef>
-
 #include <glm/vec3.hpp>
 
 #include "mvox/mesh.h"
@@ -41,6 +40,10 @@ class VertexPlacement {
   bool with_normals() const { return with_normals_; }
 
  private:
+  // The vertex's world position as WorldTransform computes it, rounded to floats, or false when
+  // a coordinate leaves float's range (its conversion would be undefined behaviour).
+  bool world_floats(const Vertex& vertex, float position[3]) const;
+
   WorldTransform transform_;
   bool axis_aligned_;
   bool identity_;  // axis-aligned, spacing 1, origin +0
