@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -50,21 +51,22 @@ std::string raw_slice(int z) {
   return slice;
 }
 
-std::vector<std::string> interrupted_job() {
-  return {
+// `mvox extract` of volume.raw (kSide x kSide x kDepth, 8 bits) at threshold 128, then `rest`.
+std::vector<std::string> raw_job(std::initializer_list<std::string> rest) {
+  std::vector<std::string> job = {
       "extract",
       "volume.raw",
       "--raw",
       std::to_string(kSide) + "x" + std::to_string(kSide) + "x" + std::to_string(kDepth) + ":u8",
       "-t",
-      "128",
-      "-o",
-      "previous.ply",
-      "--image",
-      "previous.png",
-      "--stats",
-      "previous.json",
-      "-q"};
+      "128"};
+  job.insert(job.end(), rest);
+  return job;
+}
+
+std::vector<std::string> interrupted_job() {
+  return raw_job(
+      {"-o", "previous.ply", "--image", "previous.png", "--stats", "previous.json", "-q"});
 }
 
 const char* signal_name(int signal_number) {
@@ -138,22 +140,8 @@ TEST_F(BadInput, AnErrorWhileTheInputPipeStaysOpenEndsTheRunAtOnce) {
 // fans the FIFO's slices out to the workers is blocked in read() for the seventh slice.
 TEST_F(BadInput, AnErrorWhileSlabThreadsReadAnOpenPipeEndsTheRunAtOnce) {
   ASSERT_EQ(::mkfifo((dir_ / "volume.raw").c_str(), 0600), 0);
-  const std::vector<std::string> job = {
-      "extract",
-      "volume.raw",
-      "--raw",
-      std::to_string(kSide) + "x" + std::to_string(kSide) + "x" + std::to_string(kDepth) + ":u8",
-      "-t",
-      "128",
-      "-o",
-      "/dev/full",
-      "--format",
-      "obj",
-      "--threads",
-      "2",
-      "--slab-slices",
-      "4",
-      "-q"};
+  const std::vector<std::string> job =
+      raw_job({"-o", "/dev/full", "--format", "obj", "--threads", "2", "--slab-slices", "4", "-q"});
   const auto before = test::tree_snapshot(dir_.path());
   MvoxProcess mvox(job, dir_.path());
   FifoWriter fifo(dir_ / "volume.raw");

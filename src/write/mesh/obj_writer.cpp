@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "write/buffered_writer.h"
+#include "write/mesh/text_line_runs.h"
 #include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
@@ -30,18 +31,11 @@ char* put_floats(char* out, const char* keyword, const float* values, FloatTexts
 template <class Sink>
 void put_vertex_lines(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count,
                       bool with_normals, FloatTexts& texts) {
-  const std::size_t most_bytes = ObjWriter::most_vertex_text_bytes(with_normals);
-  const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
-  for (std::size_t first = 0; first < vertex_count; first += per_run) {
-    const std::size_t count = std::min(per_run, vertex_count - first);
-    char* const begin = static_cast<char*>(static_cast<void*>(sink.reserve(count * most_bytes)));
-    char* out = begin;
-    for (std::size_t i = first; i < first + count; ++i) {
-      out = put_floats(out, "v", vertices[i].position, texts);
-      if (with_normals) out = put_floats(out, "vn", vertices[i].normal, texts);
-    }
-    sink.commit(static_cast<std::size_t>(out - begin));
-  }
+  put_line_runs(sink, vertex_count, ObjWriter::most_vertex_text_bytes(with_normals),
+                [&](char* out, std::size_t i) {
+                  out = put_floats(out, "v", vertices[i].position, texts);
+                  return with_normals ? put_floats(out, "vn", vertices[i].normal, texts) : out;
+                });
 }
 
 // "f", then per vertex a space and "I" or "I//I" with I of at most 20 digits, and the newline.
@@ -83,43 +77,37 @@ void ObjWriter::write_formatted_vertices(const unsigned char* records, std::size
 void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
                             std::uint32_t index_offset) {
   const bool with_normals = options().writes_normals();
-  const std::size_t per_run = BufferedWriter::kBufferBytes / kMostFaceBytes;
-  for (std::size_t first = 0; first < face_count; first += per_run) {
-    const std::size_t count = std::min(per_run, face_count - first);
-    char* const begin = out_.reserve(count * kMostFaceBytes);
-    char* out = begin;
-    for (std::size_t i = first; i < first + count; ++i) {
-      const Polygon& face = faces[i];
-      // MeshWriter checked every face; checked again so that the run provably fits its room.
-      if (face.vertex_count > kMaxPolygonVertices)
-        throw Error(subject(), "internal error: face too large");
-      *out++ = 'f';
-      for (int k = 0; k < face.vertex_count; ++k) {
-        // OBJ counts from 1, in as many digits as the whole index takes (past 2^32 too).
-        const std::uint64_t index =
-            whole_vertex_index(face.vertices[k] + index_offset, vertices_written()) + 1;
-        *out++ = ' ';
-        if (!with_normals) {
-          out = std::to_chars(out, out + 20, index).ptr;
-          continue;
-        }
-        // "I//I": the digits made once, and copied as all 20 bytes an index has room for, a
-        // copy of fixed size that the compiler inlines; the bytes past the digits are
-        // overwritten or not committed.
-        char digits[20];
-        const std::size_t length = static_cast<std::size_t>(
-            std::to_chars(digits, digits + sizeof digits, index).ptr - digits);
-        std::memcpy(out, digits, sizeof digits);
-        out += length;
-        *out++ = '/';
-        *out++ = '/';
-        std::memcpy(out, digits, sizeof digits);
-        out += length;
+  put_line_runs(out_, face_count, kMostFaceBytes, [&](char* out, std::size_t i) {
+    const Polygon& face = faces[i];
+    // MeshWriter checked every face; checked again so that the run provably fits its room.
+    if (face.vertex_count > kMaxPolygonVertices)
+      throw Error(subject(), "internal error: face too large");
+    *out++ = 'f';
+    for (int k = 0; k < face.vertex_count; ++k) {
+      // OBJ counts from 1, in as many digits as the whole index takes (past 2^32 too).
+      const std::uint64_t index =
+          whole_vertex_index(face.vertices[k] + index_offset, vertices_written()) + 1;
+      *out++ = ' ';
+      if (!with_normals) {
+        out = std::to_chars(out, out + 20, index).ptr;
+        continue;
       }
-      *out++ = '\n';
+      // "I//I": the digits made once, and copied as all 20 bytes an index has room for, a
+      // copy of fixed size that the compiler inlines; the bytes past the digits are
+      // overwritten or not committed.
+      char digits[20];
+      const std::size_t length = static_cast<std::size_t>(
+          std::to_chars(digits, digits + sizeof digits, index).ptr - digits);
+      std::memcpy(out, digits, sizeof digits);
+      out += length;
+      *out++ = '/';
+      *out++ = '/';
+      std::memcpy(out, digits, sizeof digits);
+      out += length;
     }
-    out_.commit(static_cast<std::size_t>(out - begin));
-  }
+    *out++ = '\n';
+    return out;
+  });
 }
 
 void ObjWriter::complete_file() { out_.seal(); }

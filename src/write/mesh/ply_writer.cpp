@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "write/mesh/binary_records.h"
+#include "write/mesh/text_line_runs.h"
 #include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
@@ -63,23 +64,18 @@ template <class Sink>
 void put_ascii_vertices(Sink& sink, const WorldVertex* vertices, std::size_t vertex_count,
                         bool normals, FloatTexts& texts) {
   const int fields = normals ? 6 : 3;
-  const std::size_t most_bytes = PlyWriter::most_vertex_text_bytes(normals);
-  const std::size_t per_run = BufferedWriter::kBufferBytes / most_bytes;
-  for (std::size_t first = 0; first < vertex_count; first += per_run) {
-    const std::size_t count = std::min(per_run, vertex_count - first);
-    char* const begin = static_cast<char*>(static_cast<void*>(sink.reserve(count * most_bytes)));
-    char* out = begin;
-    for (std::size_t i = first; i < first + count; ++i) {
-      const WorldVertex& vertex = vertices[i];
-      const float written[6] = {vertex.position[0], vertex.position[1], vertex.position[2],
-                                vertex.normal[0],   vertex.normal[1],   vertex.normal[2]};
-      for (int field = 0; field < fields; ++field) {
-        out = texts.put(out, written[field]);
-        *out++ = field + 1 < fields ? ' ' : '\n';
-      }
-    }
-    sink.commit(static_cast<std::size_t>(out - begin));
-  }
+  put_line_runs(sink, vertex_count, PlyWriter::most_vertex_text_bytes(normals),
+                [&](char* out, std::size_t i) {
+                  const WorldVertex& vertex = vertices[i];
+                  const float written[6] = {vertex.position[0], vertex.position[1],
+                                            vertex.position[2], vertex.normal[0],
+                                            vertex.normal[1],   vertex.normal[2]};
+                  for (int field = 0; field < fields; ++field) {
+                    out = texts.put(out, written[field]);
+                    *out++ = field + 1 < fields ? ' ' : '\n';
+                  }
+                  return out;
+                });
 }
 
 }  // namespace
@@ -155,7 +151,8 @@ void PlyWriter::write_formatted_vertices(const unsigned char* records, std::size
 unsigned char* PlyWriter::reserve_positions(std::size_t count) {
   // Binary without normals: a vertex record is its position (ply_vertex_record_bytes).
   if (format_ != PlyFormat::binary_little_endian || options().writes_normals()) return nullptr;
-  const std::size_t bytes = count * ply_vertex_record_bytes(false) + VertexPlacement::kPositionSlack;
+  const std::size_t bytes =
+      count * ply_vertex_record_bytes(false) + VertexPlacement::kPositionSlack;
   void* const room = vertex_spool_ ? vertex_spool_->reserve(bytes) : out_.reserve(bytes);
   return static_cast<unsigned char*>(room);
 }
@@ -175,25 +172,19 @@ void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::siz
     // "7" and seven indices of at most 10 digits (below 2^32: vertex_limit), each after a
     // space, and the newline; a run of lines at a time, straight into the buffer.
     constexpr std::size_t kMostLineBytes = 1 + kMaxPolygonVertices * 11 + 1;
-    constexpr std::size_t kPerRun = BufferedWriter::kBufferBytes / kMostLineBytes;
-    for (std::size_t first = 0; first < face_count; first += kPerRun) {
-      const std::size_t count = std::min(kPerRun, face_count - first);
-      char* const begin = faces_.reserve(count * kMostLineBytes);
-      char* out = begin;
-      for (std::size_t i = first; i < first + count; ++i) {
-        const Polygon& face = faces[i];
-        const int corners = face.vertex_count;
-        // MeshWriter checked every face; checked again so that the run provably fits its room.
-        if (corners > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
-        *out++ = static_cast<char>('0' + corners);
-        for (int k = 0; k < corners; ++k) {
-          *out++ = ' ';
-          out = std::to_chars(out, out + 10, face.vertices[k] + index_offset).ptr;
-        }
-        *out++ = '\n';
+    put_line_runs(faces_, face_count, kMostLineBytes, [&](char* out, std::size_t i) {
+      const Polygon& face = faces[i];
+      const int corners = face.vertex_count;
+      // MeshWriter checked every face; checked again so that the run provably fits its room.
+      if (corners > kMaxPolygonVertices) throw Error(subject(), "internal error: face too large");
+      *out++ = static_cast<char>('0' + corners);
+      for (int k = 0; k < corners; ++k) {
+        *out++ = ' ';
+        out = std::to_chars(out, out + 10, face.vertices[k] + index_offset).ptr;
       }
-      faces_.commit(static_cast<std::size_t>(out - begin));
-    }
+      *out++ = '\n';
+      return out;
+    });
     return;
   }
   put_ply_faces(faces_, faces, face_count, index_offset, subject());
