@@ -38,10 +38,7 @@ class DiscardingMeshWriter final : public MeshWriter {
 
  private:
   void write_vertices(const WorldVertex*, std::size_t count) override { vertices_ += count; }
-  void write_faces(const Polygon*, const FacePositions*, std::size_t count,
-                   std::uint32_t) override {
-    faces_ += count;
-  }
+  void write_faces(const Polygon*, std::size_t count, std::uint32_t) override { faces_ += count; }
   void complete_file() override {}
 
   std::string subject_ = "nothing";

@@ -45,14 +45,20 @@ void PlacedPartWriter::write_vertices(const WorldVertex* vertices, std::size_t v
   if (!stl_) put_ply_vertices(vertices_, vertices, vertex_count, options().writes_normals());
 }
 
-void PlacedPartWriter::write_faces(const Polygon* faces, const FacePositions* positions,
-                                   std::size_t face_count, std::uint32_t index_offset) {
-  if (!stl_) {
-    put_ply_faces(faces_, faces, face_count, index_offset, subject_);
-    return;
-  }
-  if (!positions) throw Error(subject_, "internal error: STL faces without positions");
-  put_stl_triangles(vertices_, faces, positions, face_count, subject_);
+void PlacedPartWriter::write_faces(const Polygon* faces, std::size_t face_count,
+                                   std::uint32_t index_offset) {
+  if (stl_) throw Error(subject_, "internal error: STL faces without their geometry");
+  put_ply_faces(faces_, faces, face_count, index_offset, subject_);
+}
+
+unsigned char* PlacedPartWriter::reserve_triangle_records(std::size_t bytes) {
+  if (!stl_) return MeshWriter::reserve_triangle_records(bytes);
+  return reinterpret_cast<unsigned char*>(vertices_.reserve(bytes));
+}
+
+void PlacedPartWriter::commit_triangle_records(std::size_t bytes, std::size_t triangle_count) {
+  if (!stl_) MeshWriter::commit_triangle_records(bytes, triangle_count);
+  vertices_.commit(bytes);
 }
 
 void PlacedPartWriter::complete_file() {

@@ -37,8 +37,10 @@ class PlacedPartWriter final : public MeshWriter {
  private:
   VertexLimit vertex_limit() const override;
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
-  void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
+  void write_faces(const Polygon* faces, std::size_t face_count,
                    std::uint32_t index_offset) override;
+  unsigned char* reserve_triangle_records(std::size_t bytes) override;
+  void commit_triangle_records(std::size_t bytes, std::size_t triangle_count) override;
   void complete_file() override;
 
   bool stl_;

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <set>
 #include <utility>
@@ -67,8 +68,8 @@ Point doubled_vector_area(const std::vector<Point>& loop) {
   return sum;
 }
 
-// Written apart from on_common_cube_face(), from docs/design.md's definition: a cube face is a plane
-// x = c, y = c or z = c with c an integer.
+// Written apart from on_common_cube_face(), from docs/design.md's definition: a cube face is a
+// plane x = c, y = c or z = c with c an integer.
 bool share_an_integer_plane(const Point& a, const Point& b) {
   for (int k = 0; k < 3; ++k)
     if (a[k] == b[k] && a[k] == std::floor(a[k])) return true;
@@ -216,6 +217,44 @@ TEST(PolygonTriangulation, RefusesWhatIsNotAPolygon) {
     geometry.vertices[k].z = 0;
   }
   EXPECT_FALSE(triangulate_polygon(geometry, &triangles));
+}
+
+// A shared coordinate counts as a cube face exactly when floor() says it is a whole number,
+// also where the check without floor changes method (2^23) and for the values floor treats
+// alone: -0, infinities, NaN, and floats too large for 32-bit integers.
+TEST(PolygonTriangulation, ACommonCubeFaceIsAWholeSharedCoordinateByFloorsDefinition) {
+  const float two23 = 8388608.0f;
+  const float values[] = {0.0f,
+                          -0.0f,
+                          0.5f,
+                          -0.5f,
+                          -3.0f,
+                          -2.5f,
+                          7.0f,
+                          0.49999997f,
+                          1.0000001f,
+                          std::nextafter(two23, 0.0f),
+                          two23 - 0.5f,
+                          two23,
+                          -two23,
+                          two23 + 2.0f,
+                          3e9f,
+                          -3e9f,
+                          1e30f,
+                          std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity(),
+                          std::numeric_limits<float>::quiet_NaN(),
+                          std::numeric_limits<float>::denorm_min()};
+  for (const float value : values)
+    for (int axis = 0; axis < 3; ++axis) {
+      // The two vertices share only this coordinate.
+      Vertex a{1.25f, 2.25f, 3.25f}, b{4.75f, 5.75f, 6.75f};
+      float* pa[3] = {&a.x, &a.y, &a.z};
+      float* pb[3] = {&b.x, &b.y, &b.z};
+      *pa[axis] = *pb[axis] = value;
+      EXPECT_EQ(on_common_cube_face(a, b), std::floor(value) == value)
+          << value << " on axis " << axis;
+    }
 }
 
 // RANDOM VOLUMES -------------------------------------------------------------------------------

@@ -199,7 +199,7 @@ std::string refusal_recorded(const HandFed& calls, const MeshWriterOptions& opti
   return writer.error() ? writer.error()->what() : "";
 }
 
-// 600 triangles, more than the writer formats in one run (512), the last one with a corner that
+// 600 triangles, more than the writer formats in one run (128), the last one with a corner that
 // leaves float's range only in its geometry: the formatter refuses the batch after it has
 // formatted a run of it. Nothing of it is kept, and the writer, given the batch as the engine
 // made it, refuses it as it refuses it straight.

@@ -1,10 +1,10 @@
 // The mesh writer's per-batch work on its fast paths, against the plain loops it replaced:
 // scan_polygons (every batch's sizes and largest index), VertexPlacement::place (every
-// vertex's world position), CornerPlacement (STL's corners) and
-// stl_face_normals (STL's normals, two triangles at a time). Both must give exactly what the plain
-// loops give, whatever the slots past a polygon's size hold and wherever a vertex leaves float's
-// range. Also the Python module's appends into numpy's arrays (append_polygons,
-// append_vertex_positions), against their plain loops.
+// vertex's world position) and CornerPlacement (STL's corners; stl_triangle_records_test has
+// the rest of STL's records). Both must give exactly what the plain loops give, whatever the slots
+// past a polygon's size hold and wherever a vertex leaves float's range. Also the Python module's
+// appends into numpy's arrays (append_polygons, append_vertex_positions), against their plain
+// loops.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "mvox/mesh.h"
-#include "write/mesh/binary_records.h"
 #include "write/mesh/corner_placement.h"
 #include "write/mesh/mesh_arrays.h"
 #include "write/mesh/polygon_scan.h"
@@ -231,7 +230,7 @@ TEST(VertexPlacement, ACoordinateThatIsNotFiniteIsNamedOnEveryPath) {
           EXPECT_EQ(placement.place(vertices.data(), nullptr, vertices.size(), placed.data()), 3u)
               << value << " on axis " << axis;
         }
-        float corner_positions[6][3];
+        float corner_positions[6][4];
         EXPECT_FALSE(corners.place(vertices.data(), 6, corner_positions))
             << value << " on axis " << axis;
         EXPECT_TRUE(corners.place(vertices.data(), 3, corner_positions));
@@ -263,10 +262,11 @@ TEST(CornerPlacement, CornersAreWherePositionPutsThemBitForBitOnAnyAxes) {
     for (int round = 0; round < 500; ++round) {
       for (Vertex& v : vertices) v = {coordinate(random), coordinate(random), coordinate(random)};
       if (round == 0) vertices[0] = {-0.0f, 0.0f, -0.0f};
-      float placed[kMaxPolygonVertices][3];
+      float placed[kMaxPolygonVertices][4];
       const int count = 1 + round % kMaxPolygonVertices;
       ASSERT_TRUE(corners.place(vertices.data(), count, placed));
       for (int i = 0; i < count; ++i) {
+        ASSERT_EQ(placed[i][3], 0.0f) << "vertex " << i << ": the row's fourth float";
         const Vector3d world = transform.position(vertices[i].x, vertices[i].y, vertices[i].z);
         for (int axis = 0; axis < 3; ++axis) {
           const float expected = static_cast<float>(world[axis]);
@@ -280,98 +280,10 @@ TEST(CornerPlacement, CornersAreWherePositionPutsThemBitForBitOnAnyAxes) {
   far.spacing = {1.0, 1.0, 1e36};  // z beyond 340 leaves float's range
   far.check("test");
   const Vertex vertices[2] = {{1.0f, 2.0f, 3.0f}, {1.0f, 2.0f, 400.0f}};
-  float placed[2][3];
+  float placed[2][4];
   const CornerPlacement corners(far);
   EXPECT_TRUE(corners.place(vertices, 1, placed));
   EXPECT_FALSE(corners.place(vertices, 2, placed));
-}
-
-#if defined(__SSE2__)
-// STL's face normals two triangles at a time: the floats of the one-at-a-time formula, for
-// ordinary, needle-thin and degenerate (no area: normal 0) triangles.
-TEST(StlFaceNormals, APairGivesEachTriangleTheNormalItGetsAlone) {
-  std::mt19937 random(5);
-  std::uniform_real_distribution<float> coordinate(-300.0f, 300.0f);
-  for (int round = 0; round < 20000; ++round) {
-    float p[3][3], q[3][3];
-    for (auto* triangle : {p, q})
-      for (int k = 0; k < 3; ++k)
-        for (int axis = 0; axis < 3; ++axis) triangle[k][axis] = coordinate(random);
-    if (round % 4 == 1) std::memcpy(q[2], q[1], sizeof q[1]);     // two corners alike: no area
-    if (round % 4 == 2) p[2][0] = std::nextafter(p[1][0], 1e9f);  // almost none
-    if (round % 4 == 3)
-      for (int axis = 0; axis < 3; ++axis) p[2][axis] = 2 * p[1][axis] - p[0][axis];  // a line
-    float pair_p[3], pair_q[3], alone_p[3], alone_q[3];
-    stl_face_normals(p, q, pair_p, pair_q);
-    stl_face_normal(p, alone_p);
-    stl_face_normal(q, alone_q);
-    ASSERT_EQ(std::memcmp(pair_p, alone_p, sizeof alone_p), 0) << "round " << round;
-    ASSERT_EQ(std::memcmp(pair_q, alone_q, sizeof alone_q), 0) << "round " << round;
-  }
-}
-#endif
-
-// A sink of put_stl_triangles' kind (binary_records.h) that keeps every byte.
-struct ByteSink {
-  std::vector<unsigned char> bytes;
-  std::size_t used = 0;
-  void* reserve(std::size_t size) {
-    bytes.resize(used + size);
-    return bytes.data() + used;
-  }
-  void commit(std::size_t size) {
-    used += size;
-    bytes.resize(used);
-  }
-};
-
-// Whole runs of STL triangles against one record at a time by the single formula: odd counts
-// (the last triangle of a run alone), and counts across the 1 MiB run's end, where the pairs
-// restart.
-TEST(StlTriangles, RunsOfAnyLengthAreTheRecordsOfTheSingleFormula) {
-  std::mt19937 random(3);
-  std::uniform_real_distribution<float> coordinate(-50.0f, 50.0f);
-  constexpr std::size_t kPerRun = BufferedWriter::kBufferBytes / kStlTriangleBytes;
-  for (std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{3},
-                            kPerRun - 1, kPerRun, kPerRun + 1, kPerRun + 2}) {
-    std::vector<Polygon> faces(count);
-    std::vector<FacePositions> positions(count);
-    for (std::size_t i = 0; i < count; ++i) {
-      faces[i].vertex_count = 3;
-      for (int k = 0; k < 3; ++k)
-        for (int axis = 0; axis < 3; ++axis) positions[i].xyz[k][axis] = coordinate(random);
-      if (i % 5 == 4) std::memcpy(positions[i].xyz[2], positions[i].xyz[1], 3 * sizeof(float));
-    }
-    ByteSink sink;
-    put_stl_triangles(sink, faces.data(), positions.data(), count, "test");
-    ASSERT_EQ(sink.bytes.size(), count * kStlTriangleBytes);
-    for (std::size_t i = 0; i < count; ++i) {
-      unsigned char expected[kStlTriangleBytes];
-      unsigned char* out = expected;
-      float normal[3];
-      stl_face_normal(positions[i].xyz, normal);
-      for (float value : normal) out = store_le_float(out, value);
-      for (int k = 0; k < 3; ++k)
-        for (int axis = 0; axis < 3; ++axis) out = store_le_float(out, positions[i].xyz[k][axis]);
-      out[0] = out[1] = 0;
-      ASSERT_EQ(std::memcmp(sink.bytes.data() + i * kStlTriangleBytes, expected, sizeof expected),
-                0)
-          << "triangle " << i << " of " << count;
-    }
-  }
-  // A face that is not a triangle, in the middle of a run: refused, naming what it has.
-  std::vector<Polygon> faces(5);
-  std::vector<FacePositions> positions(5);
-  for (Polygon& face : faces) face.vertex_count = 3;
-  faces[2].vertex_count = 4;
-  ByteSink sink;
-  try {
-    put_stl_triangles(sink, faces.data(), positions.data(), faces.size(), "out.stl");
-    FAIL() << "a 4-gon was written as an STL triangle";
-  } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("an STL face with 4 vertices"), std::string::npos)
-        << error.what();
-  }
 }
 
 // Batches of 0 to 40 polygons of 3 to 7 vertices (the engine's sizes, which MeshWriter has

@@ -27,7 +27,7 @@ static_assert(sizeof(Vertex) == 16 && offsetof(Vertex, x) == 0 && offsetof(Verte
               "a vertex is x, y, z and four bytes more: one 16-byte load");
 #endif
 
-bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) const {
+bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[4]) const {
 #if defined(__SSE2__)
   // The world's x and y side by side in one register, z in the low lane of another (its high
   // lane stays 0, which passes the range check).
@@ -42,8 +42,8 @@ bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) 
     inside = _mm_and_pd(inside, _mm_cmple_pd(_mm_andnot_pd(sign, z), largest));
     // Beyond float's range the conversion follows the instruction's rule (an infinity or the
     // largest float, by rounding), not C++'s undefined one, and the caller does not use it.
-    _mm_storel_pi(reinterpret_cast<__m64*>(out[i]), _mm_cvtpd_ps(xy));
-    out[i][2] = _mm_cvtss_f32(_mm_cvtsd_ss(_mm_setzero_ps(), z));
+    // z's high lane is 0: the row is x, y, z, 0.
+    _mm_storeu_ps(out[i], _mm_movelh_ps(_mm_cvtpd_ps(xy), _mm_cvtpd_ps(z)));
   };
   if (identity_) {
     // v + 0.0f a corner, in floats: what the sums in double round back to. Finite or not is
@@ -57,8 +57,7 @@ bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) 
       std::memcpy(&v, &vertices[i], sizeof v);
       v = _mm_add_ps(_mm_and_ps(v, only_xyz), _mm_setzero_ps());
       finite = _mm_and_ps(finite, _mm_cmple_ps(_mm_andnot_ps(float_sign, v), largest_float));
-      _mm_storel_pi(reinterpret_cast<__m64*>(out[i]), v);  // x and y
-      out[i][2] = _mm_cvtss_f32(_mm_movehl_ps(v, v));
+      _mm_storeu_ps(out[i], v);
     }
     return _mm_movemask_ps(finite) == 15;
   }
@@ -99,6 +98,7 @@ bool CornerPlacement::place(const Vertex* vertices, int count, float (*out)[3]) 
       if (!(std::fabs(world[axis]) <= kMaxCoordinate)) return false;
       out[i][axis] = static_cast<float>(world[axis]);
     }
+    out[i][3] = 0.0f;
   }
   return true;
 #endif

@@ -1,6 +1,6 @@
 #pragma once
 // Where the corners of STL's triangles land: WorldTransform::position() of each, rounded to
-// float, a polygon's corners at a time (MeshWriter::add_faces), before its triangles share them.
+// float, a polygon's corners at a time (stl_triangle_records.h), before its triangles share them.
 #include "mvox/mesh.h"
 #include "write/mesh/world_transform.h"
 
@@ -12,10 +12,11 @@ class CornerPlacement {
   // `transform` must pass its check().
   explicit CornerPlacement(const WorldTransform& transform);
 
-  // position() of each of `count` vertices, rounded to float, into out[i]: the very floats
-  // position() gives. False when a coordinate leaves float's range (out is then not to be
-  // used): the caller names the vertex the careful way.
-  bool place(const Vertex* vertices, int count, float (*out)[3]) const;
+  // position() of each of `count` vertices, rounded to float, into out[i] as x, y, z, 0: the
+  // very floats position() gives, in rows of 16 bytes that are stored whole (STL's records take
+  // them so, stl_triangle_records.h). False when a coordinate leaves float's range (out is then
+  // not to be used): the caller names the vertex the careful way.
+  bool place(const Vertex* vertices, int count, float (*out)[4]) const;
 
  private:
   WorldTransform transform_;

@@ -27,4 +27,18 @@ inline unsigned char* store_le_float(unsigned char* out, float value) {
   return store_le32(out, bits);
 }
 
+// The float whose 4 bytes, least significant first, are at `in`.
+inline float load_le_float(const unsigned char* in) {
+  std::uint32_t bits;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  std::memcpy(&bits, in, sizeof bits);
+#else
+  bits = std::uint32_t{in[0]} | std::uint32_t{in[1]} << 8 | std::uint32_t{in[2]} << 16 |
+         std::uint32_t{in[3]} << 24;
+#endif
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+
 }  // namespace mvox

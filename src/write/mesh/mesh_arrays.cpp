@@ -36,8 +36,8 @@ void MeshArraysWriter::write_vertices(const WorldVertex* vertices, std::size_t v
     for (int axis = 0; axis < 3; ++axis) normal[axis] = vertices[i].normal[axis];
 }
 
-void MeshArraysWriter::write_faces(const Polygon* faces, const FacePositions*,
-                                   std::size_t face_count, std::uint32_t index_offset) {
+void MeshArraysWriter::write_faces(const Polygon* faces, std::size_t face_count,
+                                   std::uint32_t index_offset) {
   // Past 2^31 vertices an index may not fit 32 signed bits: 64 from here on. A writer of
   // pieces (mvox.Extractor) starts each piece's arrays afresh, so the count decides, not them.
   if (vertices_written() > kNarrowIndexVertices) {

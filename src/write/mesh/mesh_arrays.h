@@ -81,7 +81,7 @@ class MeshArraysWriter : public MeshWriter {
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
-  void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
+  void write_faces(const Polygon* faces, std::size_t face_count,
                    std::uint32_t index_offset) override;
   void complete_file() override {}
 

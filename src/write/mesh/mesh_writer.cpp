@@ -8,13 +8,18 @@
 #include "write/mesh/face_formatter.h"
 #include "write/mesh/polygon_scan.h"
 #include "write/mesh/polygon_triangulation.h"
+#include "write/mesh/stl_triangle_records.h"
 #include "write/mesh/vertex_text_formatter.h"
 
 namespace mvox {
 namespace {
 
-// Faces handed to the derived writer at a time: 16 KB of Polygon, 42 KB of FacePositions.
+// Faces handed to the derived writer at a time: 16 KB of Polygon.
 constexpr std::size_t kFacesPerRun = 512;
+// Polygons whose triangle records are made at a time: at most 32 KB of records, about 12 KB at
+// the engine's usual mix, which stay in the first-level cache until their normals are filled in
+// (make_stl_triangle_records' second pass).
+constexpr std::size_t kTriangleRecordPolygonsPerRun = 128;
 
 MeshWriterOptions checked(MeshWriterOptions options) {
   // The command line checks the placement earlier, naming the input or option it came from
@@ -42,8 +47,7 @@ MeshWriter::MeshWriter(const MeshWriterOptions& options, Faces faces, Positions 
       mirrors_(options_.transform.mirrors()),
       placement_(options_.transform, options_.writes_normals()),
       corner_placement_(options_.transform),
-      faces_(kFacesPerRun),
-      face_positions_(positions_needed_ ? kFacesPerRun : 0),
+      faces_(positions_needed_ ? 0 : kFacesPerRun),
       vertex_count_(options_.part ? options_.part->first_vertex : 0) {}
 
 template <class Body>
@@ -243,7 +247,7 @@ Status MeshWriter::consume_moved_polygons(const Polygon* polygons, std::size_t p
     }
     if (!triangulate_ && !mirrors_) {
       // Nothing to change: the batch goes out as the engine sent it.
-      write_faces(polygons, nullptr, polygon_count, index_offset);
+      write_faces(polygons, polygon_count, index_offset);
       face_count_ += polygon_count;
       return;
     }
@@ -264,74 +268,97 @@ Status MeshWriter::consume_polygon_geometry(const PolygonGeometry* polygons,
   return guarded("polygon geometry", [&] {
     if (!pending_batch_ || pending_.size() != polygon_count)
       throw Error(subject(), "internal error: polygon geometry does not match the polygon batch");
-    face_fill_ = 0;
-    for (std::size_t i = 0; i < polygon_count; ++i) {
+    for (std::size_t i = 0; i < polygon_count; ++i)
       if (polygons[i].vertex_count != pending_[i].vertex_count)
         throw Error(subject(), "internal error: polygon geometry does not match the polygon batch");
-      add_faces(pending_[i], &polygons[i]);
+    if (positions_needed_) {
+      write_triangle_records(polygons, polygon_count);
+    } else {
+      face_fill_ = 0;
+      for (std::size_t i = 0; i < polygon_count; ++i) add_faces(pending_[i], &polygons[i]);
+      flush_faces();
     }
     pending_batch_ = false;
-    flush_faces();
   });
+}
+
+void MeshWriter::write_triangle_records(const PolygonGeometry* polygons,
+                                        std::size_t polygon_count) {
+  for (std::size_t first = 0; first < polygon_count;) {
+    const std::size_t run = std::min(kTriangleRecordPolygonsPerRun, polygon_count - first);
+    unsigned char* const records =
+        reserve_triangle_records(run * kMostStlBytesPerPolygon + kStlRecordSlack);
+    const StlRecordsMade made =
+        make_stl_triangle_records(corner_placement_, mirrors_, polygons + first, run, records);
+    commit_triangle_records(made.triangles * kStlTriangleBytes, made.triangles);
+    face_count_ += made.triangles;
+    if (made.polygons < run)
+      refuse_triangle_records(pending_[first + made.polygons], polygons[first + made.polygons]);
+    first += run;
+  }
+}
+
+void MeshWriter::refuse_triangle_records(const Polygon& polygon,
+                                         const PolygonGeometry& geometry) const {
+  const int count = polygon.vertex_count;
+  if (count < 3 || count > kMaxPolygonVertices || count != geometry.vertex_count)
+    throw Error(subject(), "internal error: a polygon of " + std::to_string(count) + " vertices");
+  for (int k = 0; k < count; ++k) check_corner(geometry.vertices[k], polygon.vertices[k]);
+  if (fan_apex(geometry) < 0)
+    throw Error(subject(), "internal error: a " + std::to_string(count) +
+                               "-gon cannot be split without a diagonal on a cube face");
+  throw Error(subject(), "internal error: STL records refused a polygon without a reason");
+}
+
+void MeshWriter::check_corner(const Vertex& vertex, std::uint32_t index) const {
+  const Vector3d world = options_.transform.position(vertex.x, vertex.y, vertex.z);
+  for (int axis = 0; axis < 3; ++axis) {
+    // Checked when the vertex arrived by index; checked again here because the cast of a
+    // double beyond float's range would be undefined behaviour.
+    if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max()))
+      throw Error(subject(), "vertex " + std::to_string(index) +
+                                 " lies outside the float range after spacing and origin");
+  }
+}
+
+unsigned char* MeshWriter::reserve_triangle_records(std::size_t) {
+  throw Error(subject(), "internal error: triangle records for a format that indexes vertices");
+}
+
+void MeshWriter::commit_triangle_records(std::size_t, std::size_t) {
+  throw Error(subject(), "internal error: triangle records for a format that indexes vertices");
 }
 
 void MeshWriter::add_faces(const Polygon& polygon, const PolygonGeometry* geometry) {
   const std::uint8_t in_order[kMaxPolygonVertices] = {0, 1, 2, 3, 4, 5, 6};
-  // With positions, the polygon's corners are placed once here, not once for each triangle
-  // that uses them. Each was checked when it arrived by index; one beyond float's range here
-  // (converting it would be undefined behaviour) is named by add_face's careful placement.
-  float placed[kMaxPolygonVertices][3];
-  const float(*positions)[3] = nullptr;
-  if (positions_needed_ && geometry && polygon.vertex_count <= kMaxPolygonVertices &&
-      corner_placement_.place(geometry->vertices, polygon.vertex_count, placed))
-    positions = placed;
   if (!triangulate_ || polygon.vertex_count == 3) {
-    add_face(polygon, geometry, positions, in_order, polygon.vertex_count);
+    add_face(polygon, in_order, polygon.vertex_count);
     return;
   }
   PolygonTriangles triangles;
   if (!triangulate_polygon(*geometry, &triangles))
     throw Error(subject(), "internal error: a " + std::to_string(polygon.vertex_count) +
                                "-gon cannot be split without a diagonal on a cube face");
-  for (int t = 0; t < triangles.count; ++t)
-    add_face(polygon, geometry, positions, triangles.corners[t], 3);
+  for (int t = 0; t < triangles.count; ++t) add_face(polygon, triangles.corners[t], 3);
 }
 
-void MeshWriter::add_face(const Polygon& polygon, const PolygonGeometry* geometry,
-                          const float (*placed)[3], const std::uint8_t* corners, int corner_count) {
+void MeshWriter::add_face(const Polygon& polygon, const std::uint8_t* corners, int corner_count) {
   // Faces go out in small runs, so the buffer stays small whatever the engine's batch size.
   if (face_fill_ == faces_.size()) flush_faces();
   // Reused without clearing: only the first vertex_count entries of a face are ever read.
-  Polygon& face = faces_[face_fill_];
-  float(*positions)[3] = positions_needed_ ? face_positions_[face_fill_].xyz : nullptr;
-  ++face_fill_;
+  Polygon& face = faces_[face_fill_++];
   face.vertex_count = static_cast<std::uint8_t>(corner_count);
   for (int k = 0; k < corner_count; ++k) {
     // A mirroring transform turns counter-clockwise into clockwise; walking the corners
     // backwards from the first turns it back, so the outward side stays outward.
     const int corner = corners[mirrors_ ? (corner_count - k) % corner_count : k];
     face.vertices[k] = polygon.vertices[corner];
-    if (!positions) continue;
-    if (placed) {
-      for (int axis = 0; axis < 3; ++axis) positions[k][axis] = placed[corner][axis];
-      continue;
-    }
-    const Vertex& vertex = geometry->vertices[corner];
-    const Vector3d world = options_.transform.position(vertex.x, vertex.y, vertex.z);
-    for (int axis = 0; axis < 3; ++axis) {
-      // Checked when the vertex arrived by index; checked again here because the cast of a
-      // double beyond float's range would be undefined behaviour.
-      if (!(std::fabs(world[axis]) <= std::numeric_limits<float>::max()))
-        throw Error(subject(), "vertex " + std::to_string(face.vertices[k]) +
-                                   " lies outside the float range after spacing and origin");
-      positions[k][axis] = static_cast<float>(world[axis]);
-    }
   }
 }
 
 void MeshWriter::flush_faces() {
   // add_faces() took polygons already moved.
-  write_faces(faces_.data(), positions_needed_ ? face_positions_.data() : nullptr, face_fill_, 0);
+  write_faces(faces_.data(), face_fill_, 0);
   face_count_ += face_fill_;
   face_fill_ = 0;
 }
@@ -359,7 +386,6 @@ void MeshWriter::complete() {
   std::vector<glm::vec3>().swap(normal_batch_);
   std::vector<WorldVertex>().swap(vertex_batch_);
   std::vector<Polygon>().swap(faces_);
-  std::vector<FacePositions>().swap(face_positions_);
   std::vector<Polygon>().swap(pending_);
   finished_ = true;
 }

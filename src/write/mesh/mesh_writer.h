@@ -50,20 +50,17 @@ struct MeshWriterOptions {
   std::optional<Part> part;
 };
 
-// The world positions of one face's vertices, in the face's order, for writers that asked for
-// them (STL).
-struct FacePositions {
-  float xyz[kMaxPolygonVertices][3];
-};
-
 // A PolygonSink that writes a mesh file as the engine streams, in fixed memory whatever the
 // mesh size: the derived writer's buffers, a copy of one polygon batch when it waits for its
 // geometry (32 bytes a polygon), the placed vertices of one vertex batch (24 bytes a vertex) and
 // 512 faces at a time. Faces go to the derived writer as Polygon: indices of vertices already
 // written, wound counter-clockwise seen from outside in the world (reversed from the engine's
-// order when the transform mirrors); without mirror, triangles or positions they are the
-// engine's batch itself. The file appears, complete, only when finish() succeeds (OutputFile's
-// temporary and rename); on any failure the target is left as it was.
+// order when the transform mirrors); without mirror or triangles they are the engine's batch
+// itself. A format whose faces are STL's triangle records (Positions::needed) gets no faces:
+// MeshWriter makes the records from each polygon's geometry (stl_triangle_records.h) straight
+// into the room the format gives (reserve_triangle_records). The file appears, complete, only when
+// finish() succeeds (OutputFile's temporary and rename); on any failure the target is left as it
+// was.
 //
 // The engine is built without exceptions, so the consume_* calls never throw: on an error they
 // remember it and return Status::sink_refused (also for every later call), and finish() throws
@@ -162,6 +159,8 @@ class MeshWriter : public PolygonSink {
 
  protected:
   enum class Faces : std::uint8_t { as_polygons, as_triangles };
+  // `needed`: the format's faces are triangles that carry their corners' positions instead of
+  // vertex indices (STL), made by MeshWriter as records into reserve_triangle_records()' room.
   enum class Positions : std::uint8_t { not_needed, needed };
 
   // Checks the options (throws mvox::Error) before the derived writer creates any file.
@@ -183,10 +182,16 @@ class MeshWriter : public PolygonSink {
   // format takes placed vertices.
   virtual unsigned char* reserve_positions(std::size_t /*count*/) { return nullptr; }
   virtual void commit_positions(std::size_t /*count*/) {}
-  // `positions` has one entry per face when the writer asked for them, else it is null. Each
-  // index plus `index_offset`, modulo 2^32, is the index to write.
-  virtual void write_faces(const Polygon* faces, const FacePositions* positions,
-                           std::size_t face_count, std::uint32_t index_offset) = 0;
+  // Each index plus `index_offset`, modulo 2^32, is the index to write. Not called for a format
+  // of triangle records (Positions::needed).
+  virtual void write_faces(const Polygon* faces, std::size_t face_count,
+                           std::uint32_t index_offset) = 0;
+  // For a format of triangle records (Positions::needed): room for `bytes` of them (at most
+  // BufferedWriter::kBufferBytes) where the format's records go, filled by
+  // make_stl_triangle_records(); then the first `bytes` of it, `triangle_count` records, are
+  // appended. Throws (an internal error) for the other formats.
+  virtual unsigned char* reserve_triangle_records(std::size_t bytes);
+  virtual void commit_triangle_records(std::size_t bytes, std::size_t triangle_count);
   // Writes what only the end can tell (counts), and seals the file (OutputFile::seal).
   virtual void complete_file() = 0;
   // The records of consume_formatted_faces(); only writers with a face_formatter() get them.
@@ -218,11 +223,19 @@ class MeshWriter : public PolygonSink {
   // Appends `polygon`'s faces (itself, or its triangles when `geometry` is given and the writer
   // triangulates) to faces_.
   void add_faces(const Polygon& polygon, const PolygonGeometry* geometry);
-  // `placed`: the polygon's corners in the world, by corner, when add_faces() placed them; null
-  // to place each corner here (and name one beyond float's range).
-  void add_face(const Polygon& polygon, const PolygonGeometry* geometry, const float (*placed)[3],
-                const std::uint8_t* corners, int corner_count);
+  void add_face(const Polygon& polygon, const std::uint8_t* corners, int corner_count);
   void flush_faces();
+  // The triangle records of `polygon_count` polygons (pending_) from their geometry, into the
+  // format's room (reserve_triangle_records), a run at a time.
+  void write_triangle_records(const PolygonGeometry* polygons, std::size_t polygon_count);
+  // Throws the problem that kept make_stl_triangle_records() from making `polygon`'s records:
+  // the first corner beyond float's range, named by its index, or no fan that avoids the cube
+  // faces.
+  [[noreturn]] void refuse_triangle_records(const Polygon& polygon,
+                                            const PolygonGeometry& geometry) const;
+  // The careful placement of a corner: throws, naming `index`, when a coordinate leaves
+  // float's range.
+  void check_corner(const Vertex& vertex, std::uint32_t index) const;
 
   MeshWriterOptions options_;
   bool triangulate_;
@@ -233,9 +246,8 @@ class MeshWriter : public PolygonSink {
   CornerPlacement corner_placement_;  // with positions (STL): a polygon's corners at a time
   std::vector<glm::vec3> normal_batch_;
   std::vector<WorldVertex> vertex_batch_;
-  // kFacesPerRun faces (and their positions, if needed), the first face_fill_ in use.
+  // kFacesPerRun faces, the first face_fill_ in use (none for triangle records).
   std::vector<Polygon> faces_;
-  std::vector<FacePositions> face_positions_;
   std::size_t face_fill_ = 0;
   std::vector<Polygon> pending_;  // a polygon batch waiting for its geometry, moved
   bool pending_batch_ = false;

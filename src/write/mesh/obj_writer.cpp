@@ -74,7 +74,7 @@ void ObjWriter::write_formatted_vertices(const unsigned char* records, std::size
   out_.write(records, bytes);
 }
 
-void ObjWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
+void ObjWriter::write_faces(const Polygon* faces, std::size_t face_count,
                             std::uint32_t index_offset) {
   const bool with_normals = options().writes_normals();
   put_line_runs(out_, face_count, kMostFaceBytes, [&](char* out, std::size_t i) {

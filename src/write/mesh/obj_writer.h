@@ -37,7 +37,7 @@ class ObjWriter final : public MeshWriter {
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
-  void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
+  void write_faces(const Polygon* faces, std::size_t face_count,
                    std::uint32_t index_offset) override;
   void write_formatted_vertices(const unsigned char* records, std::size_t bytes) override;
   void complete_file() override;

@@ -166,7 +166,7 @@ void PlyWriter::commit_positions(std::size_t count) {
   }
 }
 
-void PlyWriter::write_faces(const Polygon* faces, const FacePositions*, std::size_t face_count,
+void PlyWriter::write_faces(const Polygon* faces, std::size_t face_count,
                             std::uint32_t index_offset) {
   if (format_ == PlyFormat::ascii) {
     // "7" and seven indices of at most 10 digits (below 2^32: vertex_limit), each after a

@@ -28,6 +28,12 @@ struct PolygonTriangles {
   std::uint8_t corners[kMaxPolygonTriangles][3] = {};
 };
 
+// The vertex that `polygon` (3 to 7 vertices in voxel units) is fanned from: the first whose
+// diagonals all avoid on_common_cube_face(); 0 for a triangle, which has none. -1 when no fan
+// avoids the faces or the vertex count is out of range. Its triangles are then
+// (apex, apex + i, apex + i + 1), i = 1 .. vertex_count - 2, positions modulo vertex_count.
+int fan_apex(const PolygonGeometry& polygon);
+
 // Splits `polygon` (3 to 7 vertices in voxel units, before any world transform) into
 // vertex_count - 2 triangles: the fan from the first vertex whose diagonals all avoid
 // on_common_cube_face(), so no triangle lies in a cube face. A triangle is returned as it is.

@@ -28,11 +28,13 @@ class StlFaceFormatter final : public FaceFormatter {
 
  private:
   void write_vertices(const WorldVertex*, std::size_t) override {}
-  void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
-                   std::uint32_t) override {
-    if (!positions) throw Error(subject(), "internal error: STL faces without positions");
-    put_stl_triangles(records(), faces, positions, face_count, subject());
+  void write_faces(const Polygon*, std::size_t, std::uint32_t) override {
+    throw Error(subject(), "internal error: STL faces without their geometry");
   }
+  unsigned char* reserve_triangle_records(std::size_t bytes) override {
+    return static_cast<unsigned char*>(records().reserve(bytes));
+  }
+  void commit_triangle_records(std::size_t bytes, std::size_t) override { records().commit(bytes); }
 };
 
 }  // namespace
@@ -81,14 +83,20 @@ void StlWriter::write_vertices(const WorldVertex*, std::size_t) {
   // Vertices are written with each triangle, from the polygon geometry.
 }
 
-void StlWriter::write_faces(const Polygon* faces, const FacePositions* positions,
-                            std::size_t face_count, std::uint32_t /*index_offset: no indices*/) {
-  if (!positions) throw Error(subject(), "internal error: STL faces without positions");
-  check_triangle_room(face_count);
+void StlWriter::write_faces(const Polygon*, std::size_t, std::uint32_t) {
+  throw Error(subject(), "internal error: STL faces without their geometry");
+}
+
+unsigned char* StlWriter::reserve_triangle_records(std::size_t bytes) {
+  return reinterpret_cast<unsigned char*>(spool_ ? spool_->reserve(bytes) : out_.reserve(bytes));
+}
+
+void StlWriter::commit_triangle_records(std::size_t bytes, std::size_t triangle_count) {
+  check_triangle_room(triangle_count);
   if (spool_) {
-    put_stl_triangles(*spool_, faces, positions, face_count, subject());
+    spool_->commit(bytes);
   } else {
-    put_stl_triangles(out_, faces, positions, face_count, subject());
+    out_.commit(bytes);
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include "write/mesh/face_formatter.h"
 #include "write/mesh/mesh_writer.h"
+#include "write/mesh/stl_triangle_records.h"
 #include "write/output_file.h"
 #include "write/scratch_file.h"
 
@@ -29,7 +30,7 @@ class StlWriter final : public MeshWriter {
  public:
   static constexpr std::size_t kHeaderBytes = 80;
   // A polygon of kMaxPolygonVertices corners is split into that many less two triangles.
-  static constexpr std::size_t kMostBytesPerPolygon = (kMaxPolygonVertices - 2) * 50;
+  static constexpr std::size_t kMostBytesPerPolygon = kMostStlBytesPerPolygon;
 
   // Creates the temporary file. Throws mvox::Error.
   explicit StlWriter(const std::string& path, const MeshWriterOptions& options = {});
@@ -47,8 +48,11 @@ class StlWriter final : public MeshWriter {
 
  private:
   void write_vertices(const WorldVertex* vertices, std::size_t vertex_count) override;
-  void write_faces(const Polygon* faces, const FacePositions* positions, std::size_t face_count,
+  // Never called: the triangle records are MeshWriter's, made from the polygons' geometry.
+  void write_faces(const Polygon* faces, std::size_t face_count,
                    std::uint32_t index_offset) override;
+  unsigned char* reserve_triangle_records(std::size_t bytes) override;
+  void commit_triangle_records(std::size_t bytes, std::size_t triangle_count) override;
   void complete_file() override;
   void write_formatted_faces(const unsigned char* records, std::size_t bytes,
                              std::size_t face_count) override;
