@@ -142,6 +142,10 @@ compare u8-placed extract "$(volume u8)" --raw "$size:u8" -t 128 --spacing 0.7,0
   --origin 3.3,-1.7,0.1 -o mesh.obj -q
 compare f32le-cubes-normals extract "$(volume f32le)" --raw "$size:f32le" -t 0.28 -o mesh.ply \
   --method cubes --normals --image picture.png -q
+# STL's records have a path of their own without SSE2 (stl_triangle_records.cpp).
+compare u8-stl extract "$(volume u8)" --raw "$size:u8" -t 128 -o mesh.stl -q
+compare u16le-stl-placed extract "$(volume u16le)" --raw "$size:u16le" -t 32896 \
+  --spacing 0.7,0.3,1.1 --origin 3.3,-1.7,0.1 -o mesh.stl -q
 compare demo demo --size 64 -o mesh.ply --image picture.png -q
 
 say "summary"
