@@ -1,8 +1,12 @@
-#include "cli/allocation_failure.h"
-
-#include <atomic>
+// When an allocation fails anywhere in the mvox executable (a library's, a container's), main()
+// turns std::bad_alloc into one line naming the input and the size that was asked for
+// (failed_allocation.h). The executable replaces the global operator new to learn the size: it
+// behaves exactly as the standard one (malloc, the new-handler, std::bad_alloc) and also notes
+// the size of a request that fails.
 #include <cstdlib>
 #include <new>
+
+#include "failed_allocation.h"
 
 // The sanitizers bring operator new and delete of their own, which must stay theirs.
 #if defined(__SANITIZE_ADDRESS__)
@@ -18,8 +22,6 @@
 
 namespace {
 
-std::atomic<std::size_t> g_failed_bytes{0};
-
 #if MVOX_OWN_OPERATOR_NEW
 // [new.delete.single]: loop on malloc, calling the new-handler, until it succeeds or there is
 // no handler; then throw std::bad_alloc. Only the record of the size is added.
@@ -29,7 +31,7 @@ void* allocate(std::size_t size) {
     if (void* memory = std::malloc(size)) return memory;
     const std::new_handler handler = std::get_new_handler();
     if (handler == nullptr) {
-      g_failed_bytes = size;
+      mvox::note_failed_allocation(size);
       throw std::bad_alloc();
     }
     handler();
@@ -38,12 +40,6 @@ void* allocate(std::size_t size) {
 #endif
 
 }  // namespace
-
-namespace mvox {
-
-std::size_t failed_allocation_bytes() { return g_failed_bytes; }
-
-}  // namespace mvox
 
 #if MVOX_OWN_OPERATOR_NEW
 void* operator new(std::size_t size) { return allocate(size); }

@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "cli/allocation_failure.h"
 #include "cli/commands.h"
 #include "error.h"
+#include "failed_allocation.h"
 #include "message_line.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/termination.h"

@@ -118,5 +118,18 @@ TEST(GrowableArray, GrowsAgainAfterMovingWhileAMappingIsKept) {
   if (block != MAP_FAILED) ::munmap(block, 4096);
 }
 
+// A size the kernel refuses to map (1 EiB): std::bad_alloc, with the size noted for the
+// message (failed_allocation.h), and the array as it was.
+TEST(GrowableArray, AnImpossibleSizeIsBadAllocWithItsSizeNoted) {
+  GrowableArray<std::uint32_t> array;
+  fill(array, 0, 10);
+  note_failed_allocation(0);
+  const std::size_t exbibyte = std::size_t{1} << 60;
+  EXPECT_THROW(array.reserve(exbibyte / sizeof(std::uint32_t)), std::bad_alloc);
+  EXPECT_EQ(failed_allocation_bytes(), exbibyte);
+  EXPECT_EQ(array.size(), 10u);
+  EXPECT_TRUE(holds_pattern(array));
+}
+
 }  // namespace
 }  // namespace mvox

@@ -50,9 +50,17 @@ TEST(UninitializedArray, MovingHandsTheValuesOver) {
   EXPECT_EQ(other[0], 1u);
 }
 
-TEST(UninitializedArray, AnImpossibleSizeIsBadAlloc) {
+// Too many values for the address space, and a size malloc refuses (1 EiB): std::bad_alloc,
+// with the size noted for main()'s "out of memory" line (failed_allocation.h).
+TEST(UninitializedArray, AnImpossibleSizeIsBadAllocWithItsSizeNoted) {
   UninitializedArray<std::uint64_t> values;
+  note_failed_allocation(0);
   EXPECT_THROW(values.reserve(static_cast<std::size_t>(-1) / 4), std::bad_alloc);
+  EXPECT_EQ(failed_allocation_bytes(), static_cast<std::size_t>(-1));
+  EXPECT_EQ(values.capacity(), 0u);
+  const std::size_t exbibyte = std::size_t{1} << 60;
+  EXPECT_THROW(values.reserve(exbibyte / sizeof(std::uint64_t)), std::bad_alloc);
+  EXPECT_EQ(failed_allocation_bytes(), exbibyte);
   EXPECT_EQ(values.capacity(), 0u);
 }
 

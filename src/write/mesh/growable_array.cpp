@@ -130,6 +130,15 @@ MappingPool& mapping_pool() {
 }  // namespace
 
 void GrowableBytes::reserve(std::size_t wanted, std::size_t used) {
+  try {
+    grow(wanted, used);
+  } catch (const std::bad_alloc&) {
+    note_failed_allocation(wanted);
+    throw;
+  }
+}
+
+void GrowableBytes::grow(std::size_t wanted, std::size_t used) {
   if (wanted <= capacity) return;
   if (wanted < kMappedBytes) {
     void* grown = std::realloc(data, wanted);

@@ -15,12 +15,15 @@
 #include <type_traits>
 #include <utility>
 
+#include "failed_allocation.h"
+
 namespace mvox {
 
 namespace detail {
 
 // The byte-level work of GrowableArray. Every function throws std::bad_alloc when the memory
-// is not there; `bytes` is then unchanged.
+// is not there, with the size noted for the message (failed_allocation.h); `bytes` is then
+// unchanged.
 struct GrowableBytes {
   void* data = nullptr;
   std::size_t capacity = 0;  // bytes
@@ -31,6 +34,10 @@ struct GrowableBytes {
   // Down to `used` bytes (at least one page for a mapping); never moves a mapping.
   void shrink(std::size_t used) noexcept;
   void release() noexcept;
+
+ private:
+  // reserve() without noting the size of a failure.
+  void grow(std::size_t wanted, std::size_t used);
 };
 
 }  // namespace detail
@@ -75,7 +82,10 @@ class GrowableArray {
 
   void reserve(std::size_t count) {
     if (count <= capacity()) return;
-    if (count > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_alloc();
+    if (count > static_cast<std::size_t>(-1) / sizeof(T)) {
+      note_failed_allocation(static_cast<std::size_t>(-1));
+      throw std::bad_alloc();
+    }
     bytes_.reserve(count * sizeof(T), size_ * sizeof(T));
   }
   // New numbers are left uninitialised. Grows at least by half, as std::vector, so that many

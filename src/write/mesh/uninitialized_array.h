@@ -11,6 +11,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "failed_allocation.h"
+
 namespace mvox {
 
 template <class T>
@@ -41,12 +43,19 @@ class UninitializedArray {
   std::size_t size() const { return size_; }
   std::size_t capacity() const { return capacity_; }
 
-  // Room for `count` values, the first size() kept. Throws std::bad_alloc.
+  // Room for `count` values, the first size() kept. Throws std::bad_alloc, with the size noted
+  // for the message (failed_allocation.h).
   void reserve(std::size_t count) {
     if (count <= capacity_) return;
-    if (count > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_alloc();
+    if (count > static_cast<std::size_t>(-1) / sizeof(T)) {
+      note_failed_allocation(static_cast<std::size_t>(-1));
+      throw std::bad_alloc();
+    }
     void* const grown = std::realloc(static_cast<void*>(data_), count * sizeof(T));
-    if (!grown) throw std::bad_alloc();
+    if (!grown) {
+      note_failed_allocation(count * sizeof(T));
+      throw std::bad_alloc();
+    }
     data_ = static_cast<T*>(grown);
     capacity_ = count;
   }
