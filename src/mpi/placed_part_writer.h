@@ -1,6 +1,7 @@
 #pragma once
 // One rank's part of a binary PLY or STL file that the ranks of mvox-mpi write in place: the
-// records PlyWriter and StlWriter write (write/mesh/binary_records.h), straight into the shared
+// records PlyWriter and StlWriter write (write/mesh/binary_records.h for PLY's, MeshWriter's
+// make_stl_triangle_records for STL's, write/mesh/stl_triangle_records.h), straight into the shared
 // file at offsets that the counting pass gives before anything is written
 // (distributed_mesh_job.h). PLY's vertex records go into one stream and its face records into
 // another; STL's triangles into one. Nothing is written anywhere else: no part file, no copy.

@@ -244,6 +244,41 @@ TEST(MeshFormats, PolygonsLeftWithoutTheirGeometryAreAnError) {
   EXPECT_EQ(dir.listing(), "");
 }
 
+// A square lying in a cube face (z = 0) has no split whose diagonal avoids the face: STL and
+// --triangulate refuse it as an internal error, naming what it is, and leave no file. (The
+// engine never makes one: polygon_triangulation_test checks every configuration.)
+TEST(MeshFormats, APolygonNoFanCanSplitIsRefusedByTheFormatsThatSplit) {
+  ScratchDirectory dir;
+  Vertex vertices[4];
+  const float corners[4][2] = {{0.5f, 0}, {1, 0.5f}, {0.5f, 1}, {0, 0.5f}};
+  PolygonGeometry geometry;
+  geometry.vertex_count = 4;
+  Polygon square;
+  square.vertex_count = 4;
+  for (int k = 0; k < 4; ++k) {
+    vertices[k] = {corners[k][0], corners[k][1], 0.0f};
+    geometry.vertices[k] = vertices[k];
+    square.vertices[k] = static_cast<std::uint32_t>(k);
+  }
+  for (const bool stl : {true, false}) {
+    auto writer = stl ? open_mesh_writer(dir / "mesh.stl", MeshFormat::stl, {})
+                      : open_mesh_writer(dir / "mesh.obj", MeshFormat::obj, described("t", true));
+    ASSERT_EQ(writer->consume_vertices(vertices, 4), Status::ok);
+    ASSERT_EQ(writer->consume_polygons(&square, 1), Status::ok);
+    EXPECT_EQ(writer->consume_polygon_geometry(&geometry, 1), Status::sink_refused);
+    try {
+      writer->finish();
+      ADD_FAILURE() << "no error";
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what())
+                    .find("a 4-gon cannot be split without a diagonal on a cube face"),
+                std::string::npos)
+          << error.what();
+    }
+  }
+  EXPECT_EQ(dir.listing(), "");
+}
+
 // STL -----------------------------------------------------------------------------------------
 
 TEST(StlWriter, HeaderSaysWhatMadeItAndNeverStartsWithSolid) {

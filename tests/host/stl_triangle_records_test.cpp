@@ -1,6 +1,7 @@
 // STL's triangle records made straight from the engine's polygons (stl_triangle_records.h),
-// against the same records built the plain way from their definition: triangulate_polygon()'s
-// triangles, walked backwards under a mirroring placement, WorldTransform::position() rounded to
+// against the same records built the plain way from their definition: the fan from the first
+// corner whose diagonals avoid the cube faces (found with floor(), apart from fan_apex()),
+// walked backwards under a mirroring placement, WorldTransform::position() rounded to
 // float, stl_face_normal() one triangle at a time, little-endian stores and a zero attribute.
 // Also the pairs of normals against the single formula.
 #include "write/mesh/stl_triangle_records.h"
@@ -14,7 +15,6 @@
 #include <vector>
 
 #include "write/mesh/little_endian.h"
-#include "write/mesh/polygon_triangulation.h"
 #include "write/mesh/world_transform.h"
 
 namespace mvox {
@@ -34,15 +34,35 @@ PolygonGeometry random_polygon(std::mt19937& random) {
   return polygon;
 }
 
+// The fan's apex by the definition, with floor(), apart from fan_apex(): the first corner none
+// of whose diagonals joins it to a corner on a common cube face (a shared whole coordinate); -1
+// when there is none.
+int first_apex(const PolygonGeometry& polygon) {
+  const int n = polygon.vertex_count;
+  for (int apex = 0; apex < n; ++apex) {
+    bool fits = true;
+    for (int step = 2; step <= n - 2; ++step) {
+      const Vertex& a = polygon.vertices[apex];
+      const Vertex& b = polygon.vertices[(apex + step) % n];
+      const float pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z};
+      for (int axis = 0; axis < 3; ++axis)
+        if (pa[axis] == pb[axis] && std::floor(pa[axis]) == pa[axis]) fits = false;
+    }
+    if (fits) return apex;
+  }
+  return -1;
+}
+
 // The records of `polygons`, the plain way; false when one cannot be split.
 bool plain_records(const WorldTransform& transform, const std::vector<PolygonGeometry>& polygons,
                    std::vector<unsigned char>* records) {
   const bool mirrors = transform.mirrors();
   for (const PolygonGeometry& polygon : polygons) {
-    PolygonTriangles triangles;
-    if (!triangulate_polygon(polygon, &triangles)) return false;
-    for (int t = 0; t < triangles.count; ++t) {
-      const std::uint8_t* c = triangles.corners[t];
+    const int n = polygon.vertex_count;
+    const int apex = first_apex(polygon);
+    if (apex < 0) return false;
+    for (int i = 1; i <= n - 2; ++i) {
+      const int c[3] = {apex, (apex + i) % n, (apex + i + 1) % n};
       const int order[3] = {c[0], mirrors ? c[2] : c[1], mirrors ? c[1] : c[2]};
       float p[3][3];
       for (int k = 0; k < 3; ++k) {
@@ -88,7 +108,7 @@ TEST(StlTriangleRecords, AreThePlainRecordsOfEveryPolygonOnAnyPlacement) {
       std::vector<PolygonGeometry> polygons;
       while (polygons.size() < count) {
         const PolygonGeometry polygon = random_polygon(random);
-        const int apex = fan_apex(polygon);
+        const int apex = first_apex(polygon);
         if (apex < 0) continue;
         fanned_elsewhere += apex > 0;
         polygons.push_back(polygon);
@@ -109,6 +129,33 @@ TEST(StlTriangleRecords, AreThePlainRecordsOfEveryPolygonOnAnyPlacement) {
     }
   }
   EXPECT_GT(fanned_elsewhere, 100) << "the polygons hardly tried the fan's other apexes";
+}
+
+// Runs of heptagons only, each split into five triangles, fill the room to its last byte: the
+// records and the slack, and not a byte past them.
+TEST(StlTriangleRecords, HeptagonsFillTheRoomToItsLastByteAndNoFurther) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> coordinate(0.1f, 0.9f);  // never whole: apex 0 fits
+  const CornerPlacement placement{WorldTransform()};
+  for (std::size_t count : {1, 2, 129}) {
+    std::vector<PolygonGeometry> polygons(count);
+    for (PolygonGeometry& polygon : polygons) {
+      polygon.vertex_count = kMaxPolygonVertices;
+      for (int k = 0; k < kMaxPolygonVertices; ++k)
+        polygon.vertices[k] = {coordinate(random) + k, coordinate(random), coordinate(random)};
+    }
+    constexpr unsigned char kGuard = 0x5A;
+    const std::size_t room = count * kMostStlBytesPerPolygon + kStlRecordSlack;
+    std::vector<unsigned char> out(room + 32, kGuard);
+    const StlRecordsMade made =
+        make_stl_triangle_records(placement, false, polygons.data(), count, out.data());
+    ASSERT_EQ(made.triangles, count * (kMaxPolygonVertices - 2));
+    std::vector<unsigned char> expected;
+    ASSERT_TRUE(plain_records(WorldTransform(), polygons, &expected));
+    ASSERT_EQ(std::memcmp(out.data(), expected.data(), expected.size()), 0);
+    for (std::size_t i = room; i < out.size(); ++i)
+      ASSERT_EQ(out[i], kGuard) << "byte " << i << " past the room of " << count << " heptagons";
+  }
 }
 
 // A polygon it cannot make stops the run before it, with the ones before it made: a corner

@@ -1,8 +1,8 @@
 #pragma once
-// The records of binary PLY, and the sizes of PLY's and STL's (STL's records are made in
-// stl_triangle_records.h): shared by the file writers (ply_writer.h, stl_writer.h) and by
-// mvox-mpi's writer of parts in place (mpi/placed_part_writer.h), which must write the very bytes
-// the file writers write, at offsets worked out from the counts alone.
+// The records of binary PLY and their sizes (STL's, records and size, are in
+// stl_triangle_records.h, which this includes): shared by the file writers (ply_writer.h,
+// stl_writer.h) and by mvox-mpi's writer of parts in place (mpi/placed_part_writer.h), which must
+// write the very bytes the file writers write, at offsets worked out from the counts alone.
 //
 // Records are formatted straight into a sink's buffer, a run at a time: a write call per record
 // cost more than the formatting. A Sink has

@@ -26,8 +26,9 @@ std::optional<MeshFormat> mesh_format_named(const std::string& name);
 std::optional<MeshFormat> mesh_format_of_path(const std::string& path);
 
 // The batches every MeshWriter keeps, whatever the format: placed vertices and normals of a
-// vertex batch (36 bytes each), a waiting polygon batch (32 each), and a run of 512 faces:
-// under 512 KiB for the engine's 4096-entry batches.
+// vertex batch (36 bytes each), a waiting polygon batch (32 each), and a run of 512 faces (for
+// STL, a run of up to 32 KB of triangle records instead, in the file's own buffer): under
+// 512 KiB for the engine's 4096-entry batches.
 constexpr std::uint64_t kMeshWriterBatchBytes = 512 * 1024;
 
 // The most memory a writer of `format` takes, whatever the mesh size: its write buffers

@@ -303,10 +303,17 @@ void MeshWriter::refuse_triangle_records(const Polygon& polygon,
   const int count = polygon.vertex_count;
   if (count < 3 || count > kMaxPolygonVertices || count != geometry.vertex_count)
     throw Error(subject(), "internal error: a polygon of " + std::to_string(count) + " vertices");
-  for (int k = 0; k < count; ++k) check_corner(geometry.vertices[k], polygon.vertices[k]);
-  if (fan_apex(geometry) < 0)
+  // The problems in the order the faces meet them: the split first, then the corners of each
+  // triangle as it is written, so that the corner named is the first one written.
+  PolygonTriangles triangles;
+  if (!triangulate_polygon(geometry, &triangles))
     throw Error(subject(), "internal error: a " + std::to_string(count) +
                                "-gon cannot be split without a diagonal on a cube face");
+  for (int t = 0; t < triangles.count; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int corner = triangles.corners[t][mirrors_ ? (3 - k) % 3 : k];
+      check_corner(geometry.vertices[corner], polygon.vertices[corner]);
+    }
   throw Error(subject(), "internal error: STL records refused a polygon without a reason");
 }
 

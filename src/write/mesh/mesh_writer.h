@@ -53,14 +53,14 @@ struct MeshWriterOptions {
 // A PolygonSink that writes a mesh file as the engine streams, in fixed memory whatever the
 // mesh size: the derived writer's buffers, a copy of one polygon batch when it waits for its
 // geometry (32 bytes a polygon), the placed vertices of one vertex batch (24 bytes a vertex) and
-// 512 faces at a time. Faces go to the derived writer as Polygon: indices of vertices already
-// written, wound counter-clockwise seen from outside in the world (reversed from the engine's
-// order when the transform mirrors); without mirror or triangles they are the engine's batch
-// itself. A format whose faces are STL's triangle records (Positions::needed) gets no faces:
-// MeshWriter makes the records from each polygon's geometry (stl_triangle_records.h) straight
-// into the room the format gives (reserve_triangle_records). The file appears, complete, only when
-// finish() succeeds (OutputFile's temporary and rename); on any failure the target is left as it
-// was.
+// 512 faces at a time (none for STL, whose records go straight into the file's buffer). Faces go to
+// the derived writer as Polygon: indices of vertices already written, wound counter-clockwise seen
+// from outside in the world (reversed from the engine's order when the transform mirrors); without
+// mirror or triangles they are the engine's batch itself. A format whose faces are STL's triangle
+// records (Positions::needed) gets no faces: MeshWriter makes the records from each polygon's
+// geometry (stl_triangle_records.h) straight into the room the format gives
+// (reserve_triangle_records). The file appears, complete, only when finish() succeeds (OutputFile's
+// temporary and rename); on any failure the target is left as it was.
 //
 // The engine is built without exceptions, so the consume_* calls never throw: on an error they
 // remember it and return Status::sink_refused (also for every later call), and finish() throws
@@ -229,8 +229,8 @@ class MeshWriter : public PolygonSink {
   // format's room (reserve_triangle_records), a run at a time.
   void write_triangle_records(const PolygonGeometry* polygons, std::size_t polygon_count);
   // Throws the problem that kept make_stl_triangle_records() from making `polygon`'s records:
-  // the first corner beyond float's range, named by its index, or no fan that avoids the cube
-  // faces.
+  // no fan that avoids the cube faces, or else the first corner beyond float's range in the
+  // order the triangles write them, named by its index.
   [[noreturn]] void refuse_triangle_records(const Polygon& polygon,
                                             const PolygonGeometry& geometry) const;
   // The careful placement of a corner: throws, naming `index`, when a coordinate leaves
