@@ -2,8 +2,9 @@
 # Slab-parallel scaling on this machine (docs/scaling.md): the paper's engine resampled to
 # 256x256xDEPTH (default 1024), extracted
 #   - in memory, by one engine and by 1..MAX_THREADS slab workers (mvox_bench_threads), and
-#   - end to end, raw file to binary PLY and to STL, by `mvox extract --threads N` (hyperfine,
-#     one run of each command a round, medians of the rounds and of their ratios);
+#   - end to end, raw file to binary PLY (replacing the previous run's file, and written afresh)
+#     and to STL, by `mvox extract --threads N` (hyperfine, one run of each command a round,
+#     medians of the rounds and of their ratios);
 # a PNG stack of the same size (mvox phantom blobs), where each worker decodes its own slabs;
 # the picture (--image) drawn by 1..MAX_THREADS; mvox-mpi on 1..MAX_RANKS (default 4) ranks,
 # oversubscribed, when it is built; and the peak memory of each end-to-end run on the volume and on one 4x as deep, to show it
@@ -59,13 +60,19 @@ echo
 # compare_runs NAME: RUNS interleaved rounds of the array `commands`, each round one hyperfine
 # run of every command in order, after one warm-up round (a Markdown table of medians and
 # ratios to the first), then checks that the files of the array `outputs` are all the first
-# one, byte for byte.
+# one, byte for byte. With `fresh=1`, each command's output is removed before each of its runs,
+# outside the timing.
+fresh=0
 compare_runs() {
   local name=$1 output round
-  hyperfine --style none --runs 1 "${commands[@]}" > /dev/null  # warm-up
+  local prepares=()
+  if [ "$fresh" = 1 ]; then
+    for output in "${outputs[@]}"; do prepares+=(--prepare "rm -f $output"); done
+  fi
+  hyperfine --style none --runs 1 "${prepares[@]}" "${commands[@]}" > /dev/null  # warm-up
   for round in $(seq -w "$runs"); do
-    hyperfine --style none --runs 1 --export-json "$scratch/$name.round$round.json" \
-      "${commands[@]}" > /dev/null
+    hyperfine --style none --runs 1 "${prepares[@]}" --export-json \
+      "$scratch/$name.round$round.json" "${commands[@]}" > /dev/null
   done
   table "$scratch/$name" "${names[@]}"
   for output in "${outputs[@]:1}"; do
@@ -103,6 +110,15 @@ raw="$scratch/volume.raw --raw 256x256x$depth:u8 -t 100"
 echo "## End to end: raw file to binary PLY"
 echo
 thread_runs raw "$raw" -o ply ahead
+
+echo "## End to end: raw file to binary PLY, written afresh"
+echo
+echo "The same runs with each output removed before each run, outside the timing: above, every"
+echo "run also pays for removing the file it replaces (the kernel frees its page cache then)."
+echo
+fresh=1
+thread_runs fresh "$raw" -o ply
+fresh=0
 
 echo "## End to end: raw file to binary STL (each worker formats its slabs' triangles)"
 echo
