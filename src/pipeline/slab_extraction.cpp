@@ -163,6 +163,8 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads, c
                    const VolumeInfo& info, double threshold, const EngineOptions& options,
                    const VertexPlacement* placement, bool mesh_normals, const RangeReadable* ranges,
                    SlabWriteTurns& turns, SlabRunFailure& failure, const std::string& input_label) {
+  // Each slab's reader gets the buffers of the one before it (read_buffer.h).
+  const ReadBufferReuse reuse_read_buffers;
   const Cancellation& cancellation = failure.cancellation();
   const VertexNormals* normals =
       worker.normals && mesh_normals ? &worker.normals->normals() : nullptr;

@@ -5,16 +5,27 @@
 // which start 16 bytes past a boundary, took 0.55 s per GiB against 0.14 s into aligned ones, and
 // that was 40% of a 1024^3 raw-to-PLY run on one thread. A page rather than 64 bytes, so that
 // the rule does not depend on which copy routine the kernel picks.
+//
+// A slab worker opens a reader for every slab it takes (pipeline/slab_extraction.h), and each
+// reader allocates its buffer again. From 128 KiB (a 256x256 16-bit slice) malloc maps such a
+// block afresh: the worker then faulted in its pages and, on freeing it, unmapped it, which in a
+// process with threads on every core interrupts each of them to flush its TLB. Two workers on
+// 16-bit samples ran no faster than one. So a thread inside a ReadBufferReuse scope keeps the
+// last block it frees and gives it to its next buffer of the same size.
 #include <cstddef>
 #include <new>
 #include <vector>
 
 namespace mvox {
 
+namespace detail {
+void* allocate_read_buffer(std::size_t bytes);
+void free_read_buffer(void* data, std::size_t bytes) noexcept;
+}  // namespace detail
+
 template <class T>
 struct PageAlignedAllocator {
   using value_type = T;
-  static constexpr std::align_val_t kAlignment{4096};
 
   PageAlignedAllocator() = default;
   template <class U>
@@ -22,17 +33,42 @@ struct PageAlignedAllocator {
 
   T* allocate(std::size_t count) {
     if (count > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_alloc();
-    return static_cast<T*>(::operator new(count * sizeof(T), kAlignment));
+    return static_cast<T*>(detail::allocate_read_buffer(count * sizeof(T)));
   }
-  void deallocate(T* pointer, std::size_t) noexcept { ::operator delete(pointer, kAlignment); }
+  void deallocate(T* pointer, std::size_t count) noexcept {
+    detail::free_read_buffer(pointer, count * sizeof(T));
+  }
 
   template <class U>
-  bool operator==(const PageAlignedAllocator<U>&) const noexcept { return true; }
+  bool operator==(const PageAlignedAllocator<U>&) const noexcept {
+    return true;
+  }
   template <class U>
-  bool operator!=(const PageAlignedAllocator<U>&) const noexcept { return false; }
+  bool operator!=(const PageAlignedAllocator<U>&) const noexcept {
+    return false;
+  }
 };
 
 // Bytes read from a file (a slice, a chunk of slices, a compressed file's input).
 using ReadBuffer = std::vector<unsigned char, PageAlignedAllocator<unsigned char>>;
+
+// While one lives, its thread keeps the last ReadBuffer block it frees (one block at most, of
+// any size) for its next ReadBuffer of exactly that size, instead of returning it; the block
+// goes when the scope ends. Scopes on one thread nest; the innermost keeps.
+class ReadBufferReuse {
+ public:
+  ReadBufferReuse();
+  ~ReadBufferReuse();
+  ReadBufferReuse(const ReadBufferReuse&) = delete;
+  ReadBufferReuse& operator=(const ReadBufferReuse&) = delete;
+
+ private:
+  friend void* detail::allocate_read_buffer(std::size_t bytes);
+  friend void detail::free_read_buffer(void* data, std::size_t bytes) noexcept;
+
+  void* kept_ = nullptr;
+  std::size_t kept_bytes_ = 0;
+  ReadBufferReuse* outer_;
+};
 
 }  // namespace mvox
