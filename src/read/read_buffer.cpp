@@ -1,5 +1,7 @@
 #include "read/read_buffer.h"
 
+#include "failed_allocation.h"
+
 namespace mvox {
 namespace {
 
@@ -20,13 +22,20 @@ ReadBufferReuse::~ReadBufferReuse() {
 namespace detail {
 
 void* allocate_read_buffer(std::size_t bytes) {
-  ReadBufferReuse* const reuse = t_reuse;
-  if (reuse && reuse->kept_ && reuse->kept_bytes_ == bytes) {
-    void* const data = reuse->kept_;
+  if (ReadBufferReuse* const reuse = t_reuse; reuse && reuse->kept_) {
+    void* const kept = reuse->kept_;
     reuse->kept_ = nullptr;
-    return data;
+    if (reuse->kept_bytes_ == bytes) return kept;
+    // Not this size (an image stack's files differ): returned first, so that the kept block
+    // never lies beside a new one and the reader takes no more than its plan says.
+    ::operator delete(kept, kAlignment);
   }
-  return ::operator new(bytes, kAlignment);
+  try {
+    return ::operator new(bytes, kAlignment);
+  } catch (const std::bad_alloc&) {
+    note_failed_allocation(bytes);
+    throw;
+  }
 }
 
 void free_read_buffer(void* data, std::size_t bytes) noexcept {

@@ -16,6 +16,8 @@
 #include <new>
 #include <vector>
 
+#include "failed_allocation.h"
+
 namespace mvox {
 
 namespace detail {
@@ -31,8 +33,12 @@ struct PageAlignedAllocator {
   template <class U>
   PageAlignedAllocator(const PageAlignedAllocator<U>&) noexcept {}
 
+  // Throws std::bad_alloc with the size noted (failed_allocation.h).
   T* allocate(std::size_t count) {
-    if (count > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_alloc();
+    if (count > static_cast<std::size_t>(-1) / sizeof(T)) {
+      note_failed_allocation(static_cast<std::size_t>(-1));
+      throw std::bad_alloc();
+    }
     return static_cast<T*>(detail::allocate_read_buffer(count * sizeof(T)));
   }
   void deallocate(T* pointer, std::size_t count) noexcept {
@@ -53,14 +59,18 @@ struct PageAlignedAllocator {
 using ReadBuffer = std::vector<unsigned char, PageAlignedAllocator<unsigned char>>;
 
 // While one lives, its thread keeps the last ReadBuffer block it frees (one block at most, of
-// any size) for its next ReadBuffer of exactly that size, instead of returning it; the block
-// goes when the scope ends. Scopes on one thread nest; the innermost keeps.
+// any size) for its next ReadBuffer of exactly that size, instead of returning it; a request of
+// another size returns it first, and the block goes when the scope ends. Scopes on one thread
+// nest; the innermost keeps.
 class ReadBufferReuse {
  public:
   ReadBufferReuse();
   ~ReadBufferReuse();
   ReadBufferReuse(const ReadBufferReuse&) = delete;
   ReadBufferReuse& operator=(const ReadBufferReuse&) = delete;
+
+  // Bytes of the block it keeps now, 0 for none.
+  std::size_t kept_bytes() const { return kept_ ? kept_bytes_ : 0; }
 
  private:
   friend void* detail::allocate_read_buffer(std::size_t bytes);

@@ -40,6 +40,20 @@ TEST(ReadBuffer, InAReuseScopeTheNextBufferOfTheSameSizeGetsTheFreedBlock) {
   EXPECT_TRUE(page_aligned(other_size.data()));
 }
 
+// A request of another size returns the kept block before it takes its own, so that a reader
+// whose buffers change size (an image stack's files) holds one buffer at a time, as planned.
+TEST(ReadBuffer, ARequestOfAnotherSizeReturnsTheKeptBlockFirst) {
+  const ReadBufferReuse reuse;
+  EXPECT_EQ(reuse.kept_bytes(), 0u);
+  { ReadBuffer first(kSliceBytes); }
+  EXPECT_EQ(reuse.kept_bytes(), kSliceBytes);
+  {
+    ReadBuffer other_size(kSliceBytes + 4096);
+    EXPECT_EQ(reuse.kept_bytes(), 0u) << "the kept block lies beside a new one";
+  }
+  EXPECT_EQ(reuse.kept_bytes(), kSliceBytes + 4096);
+}
+
 TEST(ReadBuffer, OnlyTheLatestBlockIsKeptAndOnlyInsideTheScope) {
   const unsigned char* latest = nullptr;
   {
@@ -71,9 +85,10 @@ TEST(ReadBuffer, ScopesBelongToTheirThreadAndNest) {
     EXPECT_NE(from_inner.data(), outer_block);
   }
   // Another thread has no scope: its buffers neither take nor leave this thread's block.
-  std::thread([] {
+  std::thread([outer_block] {
     ReadBuffer elsewhere(kSliceBytes);
     EXPECT_TRUE(page_aligned(elsewhere.data()));
+    EXPECT_NE(elsewhere.data(), outer_block) << "another thread took this thread's block";
   }).join();
   ReadBuffer back_outside(kSliceBytes);
   EXPECT_EQ(back_outside.data(), outer_block);
