@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -82,13 +83,30 @@ void BufferedWriter::release() {
   used_ = 0;
 }
 
+namespace {
+
+// tmpfs (and so ramfs-like /tmp and /dev/shm) has no blocks to reserve: fallocate there takes
+// and zero-fills memory pages ahead of the writes, which then fill them again. A 256x256x1024
+// raw volume to PLY on tmpfs took 80.5 ms with it and 76.9 ms without (one thread, 15
+// interleaved rounds).
+bool allocating_ahead_pays(int fd) {
+  struct statfs info {};
+  if (::fstatfs(fd, &info) != 0) return false;
+  constexpr decltype(info.f_type) kTmpfsMagic = 0x01021994;  // TMPFS_MAGIC, linux/magic.h
+  return info.f_type != kTmpfsMagic;
+}
+
+}  // namespace
+
 void BufferedWriter::set_fd(int fd, bool preallocate) {
   // A background write still uses the old descriptor: it must end before that is closed.
   if (background_) background_->error = wait_for_background();
   fd_ = fd;
-  preallocate_ = preallocate && fd >= 0;
+  preallocate_ = preallocate && fd >= 0 && allocating_ahead_pays(fd);
   allocated_ = 0;
 }
+
+bool BufferedWriter::allocates_ahead() const { return preallocate_; }
 
 void BufferedWriter::allocate_to(std::uint64_t end) {
   if (!preallocate_ || end <= allocated_) return;

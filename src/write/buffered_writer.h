@@ -40,7 +40,11 @@ class BufferedWriter {
   // into allocated blocks did (0.3 against 0.1 s). Where fallocate fails (another file system,
   // a full disk) the writes go on without it. release_allocation() frees what is left past the
   // end.
+  // Not on tmpfs, where there are no blocks and fallocate would zero-fill memory pages the writes
+  // then fill again.
   void set_fd(int fd, bool preallocate = false);
+  // Whether the writes go into blocks allocated ahead (set_fd's `preallocate`, where it pays).
+  bool allocates_ahead() const;
   int fd() const { return fd_; }
 
   // After the last flush: frees the blocks allocated ahead past the end of the file (ftruncate

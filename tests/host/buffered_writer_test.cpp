@@ -6,6 +6,8 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -173,6 +175,44 @@ TEST(BufferedWriter, ABackgroundWriteErrorIsReturnedByALaterCall) {
   for (int i = 0; i < 64 && error == 0; ++i) error = writer.write(bytes.data(), bytes.size());
   if (error == 0) error = writer.flush();
   EXPECT_EQ(error, ENOSPC);
+  writer.set_fd(-1);
+  ::close(fd);
+}
+
+// Blocks are allocated ahead on a file system that has them, never on tmpfs, where fallocate
+// would take and zero-fill memory the writes then fill again (/tmp is tmpfs on many systems).
+TEST(BufferedWriter, AllocatesAheadExceptOnTmpfs) {
+  constexpr long kTmpfsMagic = 0x01021994;
+  auto on_tmpfs = [](int fd) {
+    struct statfs info {};
+    return ::fstatfs(fd, &info) == 0 && static_cast<long>(info.f_type) == kTmpfsMagic;
+  };
+  test::ScratchDirectory dir;
+  {
+    const int fd = ::open((dir.path() / "here.bin").c_str(), O_RDWR | O_CREAT | O_TRUNC, 0600);
+    ASSERT_GE(fd, 0);
+    BufferedWriter writer;
+    writer.set_fd(fd, true);
+    EXPECT_EQ(writer.allocates_ahead(), !on_tmpfs(fd));
+    writer.set_fd(-1);
+    ::close(fd);
+  }
+  struct statfs shm {};
+  if (::statfs("/dev/shm", &shm) != 0 || static_cast<long>(shm.f_type) != kTmpfsMagic)
+    GTEST_SKIP() << "no tmpfs at /dev/shm to write into";
+  const std::string path = "/dev/shm/mvox_buffered_writer_test." + std::to_string(::getpid());
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC, 0600);
+  ASSERT_GE(fd, 0);
+  ::unlink(path.c_str());
+  BufferedWriter writer;
+  writer.set_fd(fd, true);
+  EXPECT_FALSE(writer.allocates_ahead());
+  const char byte = 'x';
+  ASSERT_EQ(writer.write(&byte, 1), 0);
+  ASSERT_EQ(writer.flush(), 0);
+  struct stat status {};
+  ASSERT_EQ(::fstat(fd, &status), 0);
+  EXPECT_LE(status.st_blocks * 512, 64 * 1024) << "memory taken ahead on tmpfs";
   writer.set_fd(-1);
   ::close(fd);
 }
