@@ -151,6 +151,12 @@ Status SlabRecorder::written(Status status, double seconds) {
 
 // The engine is built without exceptions: a failed allocation here must not unwind through it,
 // so every call catches and refuses (the worker then reports the engine's sink_refused).
+bool SlabRecorder::place_batch(const Vertex* vertices, const glm::vec3* normals,
+                               std::size_t count) {
+  if (placed_batch_.size() < count) placed_batch_.resize(count);
+  return placement_->place(vertices, normals, count, placed_batch_.data()) == count;
+}
+
 Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count) {
   if (!placement_) return Status::ok;
   try {
@@ -162,18 +168,15 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
     }
     if (SlabReplay* writer = handover_.writer(chunk_)) {
       const auto start = Clock::now();
-      if (placed_batch_.size() < count) placed_batch_.resize(count);
       // A vertex outside float's range is left for the writer, which refuses it by its index.
-      const Status status =
-          placement_->place(vertices, normals, count, placed_batch_.data()) == count
-              ? writer->placed_vertices(placed_batch_.data(), count)
-              : writer->vertices(vertices, normals, count);
+      const Status status = place_batch(vertices, normals, count)
+                                ? writer->placed_vertices(placed_batch_.data(), count)
+                                : writer->vertices(vertices, normals, count);
       return written(status, seconds_since(start));
     }
     if (formatting_) {
       // The writer keeps only the count; the placement checks that every vertex is in range.
-      if (placed_batch_.size() < count) placed_batch_.resize(count);
-      if (placement_->place(vertices, normals, count, placed_batch_.data()) == count &&
+      if (place_batch(vertices, normals, count) &&
           formatter_->consume_vertex_count(count) == Status::ok) {
         chunk_->calls.push_back(
             {SlabChunk::Kind::vertex_count, own_only_, static_cast<std::uint32_t>(count)});
@@ -182,8 +185,7 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
       formatting_ = false;
     }
     if (vertex_text_) {
-      if (placed_batch_.size() < count) placed_batch_.resize(count);
-      if (placement_->place(vertices, normals, count, placed_batch_.data()) == count) {
+      if (place_batch(vertices, normals, count)) {
         SlabChunk& chunk = *chunk_;
         const std::size_t bytes_before = chunk.formatted.size();
         try {
@@ -199,26 +201,22 @@ Status SlabRecorder::consume_vertices(const Vertex* vertices, std::size_t count)
              static_cast<std::uint32_t>(chunk.formatted.size() - bytes_before)});
         return after_call() ? Status::ok : Status::sink_refused;
       }
-      // A vertex outside float's range: kept as the engine made it, for the writer to refuse.
-      record(SlabChunk::Kind::vertices, chunk_->vertices, vertices, count);
-      if (normals) chunk_->normals.insert(chunk_->normals.end(), normals, normals + count);
-      return after_call() ? Status::ok : Status::sink_refused;
-    }
-    const std::size_t first = chunk_->placed_count;
-    // Room was reserved for a full chunk and one batch more (SlabChunk::reserve); grown only
-    // as far as it is used, and left unwritten until place() writes it.
-    if (chunk_->placed.size() < first + count) chunk_->placed.resize(first + count);
-    const std::size_t outside = placement_->place(vertices, normals, count, &chunk_->placed[first]);
-    if (outside == count) {
-      chunk_->placed_count += count;
-      chunk_->calls.push_back(
-          {SlabChunk::Kind::placed_vertices, own_only_, static_cast<std::uint32_t>(count)});
     } else {
-      // Left for the writer, which refuses the batch naming the vertex by its index in the
-      // whole mesh, as with one thread.
-      record(SlabChunk::Kind::vertices, chunk_->vertices, vertices, count);
-      if (normals) chunk_->normals.insert(chunk_->normals.end(), normals, normals + count);
+      const std::size_t first = chunk_->placed_count;
+      // Room was reserved for a full chunk and one batch more (SlabChunk::reserve); grown only
+      // as far as it is used, and left unwritten until place() writes it.
+      if (chunk_->placed.size() < first + count) chunk_->placed.resize(first + count);
+      if (placement_->place(vertices, normals, count, &chunk_->placed[first]) == count) {
+        chunk_->placed_count += count;
+        chunk_->calls.push_back(
+            {SlabChunk::Kind::placed_vertices, own_only_, static_cast<std::uint32_t>(count)});
+        return after_call() ? Status::ok : Status::sink_refused;
+      }
     }
+    // A vertex outside float's range: the batch is kept as the engine made it, for the writer,
+    // which refuses it naming the vertex by its index in the whole mesh, as with one thread.
+    record(SlabChunk::Kind::vertices, chunk_->vertices, vertices, count);
+    if (normals) chunk_->normals.insert(chunk_->normals.end(), normals, normals + count);
     return after_call() ? Status::ok : Status::sink_refused;
   } catch (...) {
     return Status::sink_refused;

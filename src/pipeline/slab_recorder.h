@@ -184,6 +184,8 @@ class SlabRecorder final : public PolygonSink {
   // False, with nothing of it kept and formatting stopped for the slab, if the formatter
   // refuses it.
   bool format_recorded_batch(const PolygonGeometry* geometry, std::size_t count);
+  // Places the batch into placed_batch_; false when a vertex leaves float's range.
+  bool place_batch(const Vertex* vertices, const glm::vec3* normals, std::size_t count);
   // Appends the call and its batch to the current chunk.
   template <class Item>
   void record(SlabChunk::Kind kind, std::vector<Item>& items, const Item* batch, std::size_t count);
