@@ -423,9 +423,9 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
       ->add_option("--threads", args->threads,
                    "Extracting threads. Above 1, the volume is cut into slabs of slices "
                    "extracted in parallel; the mesh and the picture are what one thread makes, "
-                   "byte for byte. A volume of one slab (about 1 MiB of samples) has one "
-                   "engine; so have runs with --frames, --show, --smooth, --decimate, "
-                   "--largest or --min-faces, and a note says so. 1: one "
+                   "byte for byte (--frames and --show grow slab by slab). A volume of one "
+                   "slab (about 1 MiB of samples) has one engine; so have runs with --smooth, "
+                   "--decimate, --largest or --min-faces, and a note says so. 1: one "
                    "thread does everything, for single-core devices. Default: one per core "
                    "for volumes of 64 MiB or more, else one engine and a reading thread")
       ->check(CLI::Range(1u, 1024u));

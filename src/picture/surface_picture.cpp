@@ -8,8 +8,8 @@
 #include "error.h"
 #include "message_line.h"
 #include "picture/live_window.h"
-#include "picture/picture_layer.h"
 #include "picture/picture_frame.h"
+#include "picture/picture_layer.h"
 #include "write/slice_image_writer.h"
 
 namespace mvox {
@@ -82,8 +82,8 @@ SurfacePicture::SurfacePicture(const VolumeInfo& volume, const std::array<double
 SurfacePicture::~SurfacePicture() = default;
 
 std::unique_ptr<PictureLayer> SurfacePicture::new_layer(const VertexNormals* normals) const {
-  return std::make_unique<PictureLayer>(camera_, options_.lighting, frame_spacing_,
-                                        frame_origin_, options_.smooth ? normals : nullptr);
+  return std::make_unique<PictureLayer>(camera_, options_.lighting, frame_spacing_, frame_origin_,
+                                        options_.smooth ? normals : nullptr);
 }
 
 void SurfacePicture::start_tagging() {
@@ -105,11 +105,31 @@ void SurfacePicture::composite(const float* depths, const std::uint8_t* shades,
     throw Error("renderer", "internal error: a layer without pixels");
 }
 
-void SurfacePicture::write_frame(std::uint32_t slices_done) {
-  if (options_.frames_dir.empty()) return;
+std::vector<std::uint32_t> SurfacePicture::frames_due(std::uint32_t slices_done) {
+  std::vector<std::uint32_t> due;
+  if (options_.frames_dir.empty()) return due;
+  const std::uint32_t every = options_.every;
+  for (std::uint64_t frame = std::uint64_t{last_frame_ / every + 1} * every;
+       frame <= slices_done && frame < depth_; frame += every)
+    due.push_back(static_cast<std::uint32_t>(frame));
+  if (!due.empty()) last_frame_ = due.back();
+  return due;
+}
+
+void SurfacePicture::write_frame_showing(std::uint32_t slices_done,
+                                         const SliceView& picture) const {
   write_slice_image(
       (std::filesystem::path(options_.frames_dir) / frame_file_name(slices_done, depth_)).string(),
-      renderer_.picture());
+      picture);
+}
+
+void SurfacePicture::show_in_window(const std::uint8_t* pixels) {
+  if (live_window_) live_window_->show(pixels, renderer_.width(), renderer_.height());
+}
+
+void SurfacePicture::write_frame(std::uint32_t slices_done) {
+  if (options_.frames_dir.empty()) return;
+  write_frame_showing(slices_done, renderer_.picture());
   last_frame_ = slices_done;
 }
 

@@ -73,9 +73,24 @@ class SurfacePicture {
   // Slab-parallel pictures (sort-last compositing): each worker draws its slabs into a layer of
   // its own, with its own slice window's `normals` (may be null), and the layers composited into
   // this picture give the picture one engine draws, bit for bit (ZBufferRenderer::composite).
-  // Frames and the live window follow slices as one engine takes them, so they need one engine.
   std::unique_ptr<PictureLayer> new_layer(const VertexNormals* normals) const;
   void composite(const PictureLayer& layer);
+  // Frames and the window of a slab-parallel run (slab_picture_follower.h), which composites the
+  // layers as they grow. frames_due() gives the frames due after `slices_done` slices (every
+  // multiple of `every` since the last frame given, but not the last frame, which complete()
+  // writes) and takes them as written; write_frame_showing() writes one, showing `picture` (a
+  // copy of this one's pixels), and may run on several threads at once for different frames;
+  // it throws mvox::Error if the frame cannot be written. show_in_window() shows `pixels` (a
+  // copy) in the live window, if there is one.
+  std::vector<std::uint32_t> frames_due(std::uint32_t slices_done);
+  void write_frame_showing(std::uint32_t slices_done, const SliceView& picture) const;
+  void show_in_window(const std::uint8_t* pixels);
+  void add_seconds_following(double seconds) { seconds_following_ += seconds; }
+  bool writes_frames() const { return !options_.frames_dir.empty(); }
+  bool shows_window() const { return live_window_ != nullptr; }
+  // Forgets every layer composited so far, for the final compositing of a run whose frames
+  // composited the layers as they grew: compositing adds the layers' counters.
+  void start_over() { renderer_.clear(); }
   // A layer's arrays (width * height entries each) from another process (mvox-mpi).
   void composite(const float* depths, const std::uint8_t* shades, const std::uint32_t* tags);
   bool smooth() const { return options_.smooth; }

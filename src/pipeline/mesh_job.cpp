@@ -124,9 +124,6 @@ void print_dry_run(const RunReport& r, const MeshJob& job, const MemoryPlan& pla
 }
 
 const char* why_one_engine(const MeshJob& job) {
-  if (!job.picture.frames_dir.empty())
-    return "--frames shows the picture slice by slice, as one engine draws it";
-  if (job.picture.show) return "--show shows the picture slice by slice, as one engine draws it";
   if (job.smooth_iterations > 0)
     return "--smooth needs the layers on both sides of a slab's boundary";
   if (job.decimation) return "--decimate needs the layers on both sides of a slab's boundary";
@@ -198,10 +195,15 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     }
     plan.add(std::to_string(threads) + " slab workers (workspace, slices, window, recorded output)",
              slab_pipeline_bytes(info, engine, slabs));
-    if (picture)  // and the picture's own slab numbers, once the layers are composited
+    if (picture) {
+      // And the picture's own slab numbers, once the layers are composited; the copies of its
+      // pixels that frames (one per worker) and a live window show (slab_picture_follower.h).
+      const std::uint64_t pixels = std::uint64_t{job.picture.width} * job.picture.height;
       plan.add(std::to_string(threads) + " picture layers (z-buffer, slab of each pixel)",
-               threads * PictureLayer::bytes(job.picture.width, job.picture.height) +
-                   std::uint64_t{job.picture.width} * job.picture.height * 4);
+               threads * PictureLayer::bytes(job.picture.width, job.picture.height) + pixels * 4 +
+                   (job.picture.frames_dir.empty() ? 0 : threads * pixels) +
+                   (job.picture.show ? pixels : 0));
+    }
     plan.add("reader (slice and decoder buffers)", source.working_bytes());
   } else {
     plan.add("engine workspace", engine_workspace_bytes(info.width, info.height, engine));
@@ -383,8 +385,11 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
       slabs.spacing = placement.spacing;
       slabs.picture = picture ? &*picture : nullptr;
       slabs.smooth_picture = picture && job.picture.smooth;
+      // Frames and the window follow the workers' layers (slab_picture_follower.h), not slices.
+      ProgressCallback slabs_done;
+      if (progress.enabled()) slabs_done = [&](std::uint32_t done) { progress.update(done); };
       report.result = run_slab_pipeline(source, job.threshold, engine, writer.get(), slabs,
-                                        job.input_label, after_slice);
+                                        job.input_label, slabs_done);
     } else if (!one_engine_helpers(source, job)) {
       report.result =
           run_pipeline(source, job.threshold, engine, sinks, job.input_label, after_slice);
@@ -397,10 +402,11 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     }
   }
   if (picture) {
-    // Frames and the window's updates happened between slices: rendering, not extraction.
+    // Frames and the window's updates are rendering. One engine made them between slices, so
+    // their time is not extraction; slab workers went on extracting meanwhile.
     const double following = picture->seconds_following();
     report.result.times.render_s += following;
-    report.result.times.extract_s -= following;
+    if (threads <= 1) report.result.times.extract_s -= following;
   }
   if (report.result.status == Status::sink_refused && spool && spool->error())
     throw *spool->error();

@@ -41,8 +41,8 @@ struct MeshJob {
   bool sync = false;
   bool quiet = false;  // no progress line, no summary
   // Extracting threads (--threads): above 1, the volume is extracted in slabs, in parallel
-  // (slab_extraction.h), mesh and picture the same bytes as one thread (not with frames or
-  // --show). 1: one engine.
+  // (slab_extraction.h), mesh and picture the same bytes as one thread (frames and the live
+  // window follow the slabs as they are drawn: slab_picture_follower.h). 1: one engine.
   // 0: one per core for volumes of kAutoSlabVolumeBytes or more, one engine below.
   unsigned threads = 1;
   // With one engine, a reading thread fills the next slices while the engine works
@@ -99,8 +99,7 @@ constexpr std::uint64_t kAutoSlabVolumeBytes = std::uint64_t{64} << 20;
 // slices took 34.7 ms with them and 41.6 ms without (hyperfine, 30 runs each, 2026-11-27).
 bool one_engine_helpers(const SliceSource& source, const MeshJob& job);
 
-// Why the job must run on one engine whatever --threads says, or null: frames and the live
-// window follow the picture slice by slice, as one engine draws it; smoothing and decimation
+// Why the job must run on one engine whatever --threads says, or null: smoothing and decimation
 // need the layers on both sides of a slab's boundary; --largest and --min-faces keep one
 // engine's mesh until the end. A sentence naming the option, for the note a run prints.
 const char* why_one_engine(const MeshJob& job);

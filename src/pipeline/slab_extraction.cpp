@@ -19,6 +19,7 @@
 #include "picture/surface_picture.h"
 #include "pipeline/blocking_queue.h"
 #include "pipeline/slab_engine_run.h"
+#include "pipeline/slab_picture_follower.h"
 #include "pipeline/slab_recorder.h"
 #include "pipeline/slab_run_failure.h"
 #include "pipeline/slab_write_turns.h"
@@ -162,7 +163,8 @@ class HandedOutSlices final : public SlabSlices {
 void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads, const SlabCuts& cuts,
                    const VolumeInfo& info, double threshold, const EngineOptions& options,
                    const VertexPlacement* placement, bool mesh_normals, const RangeReadable* ranges,
-                   SlabWriteTurns& turns, SlabRunFailure& failure, const std::string& input_label) {
+                   SlabWriteTurns& turns, SlabPictureFollower* follower, SlabRunFailure& failure,
+                   const std::string& input_label) {
   // Each slab's reader gets the buffers of the one before it (read_buffer.h).
   const ReadBufferReuse reuse_read_buffers;
   const Cancellation& cancellation = failure.cancellation();
@@ -208,6 +210,7 @@ void extract_slabs(Worker& worker, std::uint32_t index, std::uint32_t threads, c
                                       cancellation, input_label);
     if (own) worker.read_seconds += own->read_seconds();
     if (!went_on) return;
+    if (follower) follower->slab_drawn(index, slab, *worker.layer);
   }
   // Slabs it finished ahead of their turn wait, recorded, for this worker to write them.
   turns.finish_worker(index);
@@ -319,6 +322,11 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
           options.picture->new_layer(worker.normals ? &worker.normals->normals() : nullptr);
   }
 
+  // Frames and the live window follow the layers as they grow.
+  std::optional<SlabPictureFollower> follower;
+  if (options.picture && options.picture->follows_slices())
+    follower.emplace(*options.picture, cuts.slab_slices, cuts.depth, threads);
+
   const auto start = Clock::now();
   double read_seconds = 0;
   std::thread reader;
@@ -340,7 +348,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
         try {
           extract_slabs(*workers[w], w, threads, cuts, info, threshold, engine,
                         mesh ? &mesh->placement() : nullptr, options.normals, ranges, *turns,
-                        failure, input_label);
+                        follower ? &*follower : nullptr, failure, input_label);
         } catch (...) {
           failure.fail(std::current_exception());
         }
@@ -364,6 +372,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
   // The workers write, taking turns (slab_write_turns.h); this thread reports progress.
   try {
     turns->wait_written([&](std::uint32_t written) {
+      if (follower) follower->show();
       if (progress) progress(cuts.end(written - 1));
     });
   } catch (...) {
@@ -381,6 +390,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
     // Sort-last: the workers' layers into the picture, each pixel to the nearest, ties to the
     // lowest slab, as one engine draws it.
     const auto render_start = Clock::now();
+    if (follower) follower->finish();
     for (const auto& worker : workers) options.picture->composite(*worker->layer);
     result.times.render_s = seconds_since(render_start);
   }

@@ -42,7 +42,9 @@ struct SlabOptions {
   std::array<double, 3> spacing = {1, 1, 1};
   // A picture (borrowed; may be null), drawn in parallel: each worker draws its slabs into a
   // layer of its own (SurfacePicture::new_layer), and the layers are composited into it at
-  // the end, giving the picture one engine draws. Without frames or a live window.
+  // the end, giving the picture one engine draws. With frames or a live window
+  // (SurfacePicture::follows_slices), each worker also composites its layer into the picture
+  // whenever it has drawn a slab, so that they show it growing (slab_picture_follower.h).
   SurfacePicture* picture = nullptr;
   bool smooth_picture = false;  // the picture is shaded with gradient normals
   // Each worker keeps a slice window: for the mesh's normals, or the picture's smooth shading.

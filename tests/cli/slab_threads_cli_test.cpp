@@ -95,19 +95,6 @@ TEST(SlabThreads, ThePictureIsTheSameBytesForAnyNumberOfThreads) {
   }
 }
 
-TEST(SlabThreads, FramesFollowOneEngine) {
-  // Frames show the picture slice by slice, as one engine draws it: no slab workers then.
-  test::ScratchDirectory dir;
-  write_noise(dir / "noise.raw", 41 * 23 * 37, 5);
-  const test::CommandResult plan = run_mvox(
-      "extract noise.raw --raw 41x23x37:u8 -t 128 --image p.png --frames f --threads 4 "
-      "--slab-slices 4 --dry-run",
-      dir.path());
-  ASSERT_EQ(plan.exit_code, 0) << plan.output;
-  EXPECT_EQ(plan.output.find("slab workers"), std::string::npos) << plan.output;
-  EXPECT_NE(plan.output.find("engine workspace"), std::string::npos) << plan.output;
-}
-
 // Threads asked for that the job cannot use are said in one note, naming the option that needs
 // one engine; never silently, never twice, never with -q, and not when no --threads was given.
 TEST(SlabThreads, ThreadsThatCannotBeUsedAreSaidInANote) {
@@ -118,7 +105,6 @@ TEST(SlabThreads, ThreadsThatCannotBeUsedAreSaidInANote) {
       {"-o m.ply --smooth 2", "--smooth"},
       {"-o m.ply --decimate 0.5", "--decimate"},
       {"-o m.ply --largest", "--largest"},
-      {"--image p.png --frames f", "--frames"},
   };
   for (const auto& [options, option] : cases) {
     SCOPED_TRACE(options);
@@ -133,8 +119,10 @@ TEST(SlabThreads, ThreadsThatCannotBeUsedAreSaidInANote) {
     EXPECT_EQ(run_mvox(input + options + " --threads 3 -q", dir.path()).output, "");
     EXPECT_EQ(run_mvox(input + options, dir.path()).output.find("note:"), std::string::npos);
   }
-  const test::CommandResult usable = run_mvox(input + "-o m.ply --threads 3", dir.path());
-  EXPECT_EQ(usable.output.find("note:"), std::string::npos) << usable.output;
+  for (const char* options : {"-o m.ply", "--image p.png --frames f"}) {
+    const test::CommandResult usable = run_mvox(input + options + " --threads 3", dir.path());
+    EXPECT_EQ(usable.output.find("note:"), std::string::npos) << usable.output;
+  }
 }
 
 // The threads a run starts, as strace sees them: clone calls that make a thread.
