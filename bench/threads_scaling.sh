@@ -6,9 +6,10 @@
 #     and to STL, by `mvox extract --threads N` (hyperfine, one run of each command a round,
 #     medians of the rounds and of their ratios);
 # a PNG stack of the same size (mvox phantom blobs), where each worker decodes its own slabs;
-# the picture (--image) drawn by 1..MAX_THREADS; mvox-mpi on 1..MAX_RANKS (default 4) ranks,
-# oversubscribed, when it is built; and the peak memory of each end-to-end run on the volume and on one 4x as deep, to show it
-# is flat in depth. Prints Markdown.
+# the picture (--image) drawn by 1..MAX_THREADS, alone and with a frame every 10 slices;
+# mvox-mpi on 1..MAX_RANKS (default 4) ranks, oversubscribed, when it is built; and the peak
+# memory of each end-to-end run on the volume and on one 4x as deep, to show it is flat in
+# depth. Prints Markdown.
 #   bench/threads_scaling.sh BUILD_DIR [RUNS] [DEPTH] [MAX_THREADS] [DATASETS_DIR]
 set -euo pipefail
 build=$(realpath "$1")
@@ -132,6 +133,13 @@ thread_runs png "$scratch/stack -t 128" -o ply ahead
 echo "## End to end: raw file to a picture (--image), each worker drawing a layer of its own"
 echo
 thread_runs picture "$raw" --image png
+
+echo "## End to end: raw file to a picture and a frame every 10 slices (--frames)"
+echo
+echo "Each worker composites its layer into the picture when it has drawn a slab, and writes the"
+echo "frames the slabs drawn so far complete. The frames of all runs go to one directory."
+echo
+thread_runs frames "$raw" "--every 10 --frames $scratch/frames --image" png
 
 mpi=$build/src/mvox-mpi
 if [ -x "$mpi" ] && command -v mpirun > /dev/null; then
