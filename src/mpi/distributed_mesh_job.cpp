@@ -71,7 +71,7 @@ void check_distributable(const SliceSource& source, const MeshJob& job) {
                      "cannot be");
   if (!job.picture.frames_dir.empty() || job.picture.show)
     throw UsageError(job.picture.show ? "--show" : "--frames",
-                     "frames and the window follow one engine slice by slice: use mvox extract");
+                     "frames and the window are one process's: use mvox extract");
   if (job.threads > 1)
     throw UsageError("--threads", "mvox-mpi runs one engine per rank: start more ranks instead");
   if (job.decimation)

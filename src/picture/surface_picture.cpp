@@ -105,7 +105,7 @@ void SurfacePicture::composite(const float* depths, const std::uint8_t* shades,
     throw Error("renderer", "internal error: a layer without pixels");
 }
 
-std::vector<std::uint32_t> SurfacePicture::frames_due(std::uint32_t slices_done) {
+std::vector<std::uint32_t> SurfacePicture::take_frames_due(std::uint32_t slices_done) {
   std::vector<std::uint32_t> due;
   if (options_.frames_dir.empty()) return due;
   const std::uint32_t every = options_.every;
@@ -116,11 +116,9 @@ std::vector<std::uint32_t> SurfacePicture::frames_due(std::uint32_t slices_done)
   return due;
 }
 
-void SurfacePicture::write_frame_showing(std::uint32_t slices_done,
-                                         const SliceView& picture) const {
-  write_slice_image(
-      (std::filesystem::path(options_.frames_dir) / frame_file_name(slices_done, depth_)).string(),
-      picture);
+std::string SurfacePicture::frame_path(std::uint32_t slices_done) const {
+  return (std::filesystem::path(options_.frames_dir) / frame_file_name(slices_done, depth_))
+      .string();
 }
 
 void SurfacePicture::show_in_window(const std::uint8_t* pixels) {
@@ -129,7 +127,7 @@ void SurfacePicture::show_in_window(const std::uint8_t* pixels) {
 
 void SurfacePicture::write_frame(std::uint32_t slices_done) {
   if (options_.frames_dir.empty()) return;
-  write_frame_showing(slices_done, renderer_.picture());
+  write_slice_image(frame_path(slices_done), renderer_.picture());
   last_frame_ = slices_done;
 }
 

@@ -58,7 +58,8 @@ class SurfacePicture {
   // After each slice the engine has taken: writes a frame every `every` slices and refreshes
   // the live window. Throws mvox::Error if a frame cannot be written.
   void after_slice(std::uint32_t slices_done);
-  // False when after_slice() does nothing (no frames, no window), so need not be called.
+  // False when after_slice() does nothing (no frames, no window), so need not be called; a
+  // slab-parallel run then needs no SlabPictureFollower either.
   bool follows_slices() const { return !options_.frames_dir.empty() || live_window_ != nullptr; }
   // Seconds after_slice() has spent writing frames and updating the window: rendering time.
   double seconds_following() const { return seconds_following_; }
@@ -76,14 +77,13 @@ class SurfacePicture {
   std::unique_ptr<PictureLayer> new_layer(const VertexNormals* normals) const;
   void composite(const PictureLayer& layer);
   // Frames and the window of a slab-parallel run (slab_picture_follower.h), which composites the
-  // layers as they grow. frames_due() gives the frames due after `slices_done` slices (every
-  // multiple of `every` since the last frame given, but not the last frame, which complete()
-  // writes) and takes them as written; write_frame_showing() writes one, showing `picture` (a
-  // copy of this one's pixels), and may run on several threads at once for different frames;
-  // it throws mvox::Error if the frame cannot be written. show_in_window() shows `pixels` (a
-  // copy) in the live window, if there is one.
-  std::vector<std::uint32_t> frames_due(std::uint32_t slices_done);
-  void write_frame_showing(std::uint32_t slices_done, const SliceView& picture) const;
+  // layers as they grow. take_frames_due() gives the frames due after `slices_done` slices
+  // (every multiple of `every` since the last frame given, but not the last frame, which
+  // complete() writes) and counts them as written from then on; the caller writes each to
+  // frame_path(), which any thread may call. show_in_window() shows `pixels` (a copy) in the
+  // live window, if there is one.
+  std::vector<std::uint32_t> take_frames_due(std::uint32_t slices_done);
+  std::string frame_path(std::uint32_t slices_done) const;
   void show_in_window(const std::uint8_t* pixels);
   void add_seconds_following(double seconds) { seconds_following_ += seconds; }
   bool writes_frames() const { return !options_.frames_dir.empty(); }

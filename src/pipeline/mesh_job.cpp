@@ -402,11 +402,12 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
     }
   }
   if (picture) {
-    // Frames and the window's updates are rendering. One engine made them between slices, so
-    // their time is not extraction; slab workers went on extracting meanwhile.
+    // Frames and the window's updates are rendering, not extraction: one engine made them
+    // between slices, slab workers between slabs (the time of each summed, as their writing
+    // is; slab_picture_follower.h).
     const double following = picture->seconds_following();
     report.result.times.render_s += following;
-    if (threads <= 1) report.result.times.extract_s -= following;
+    report.result.times.extract_s = std::max(0.0, report.result.times.extract_s - following);
   }
   if (report.result.status == Status::sink_refused && spool && spool->error())
     throw *spool->error();

@@ -17,7 +17,8 @@ struct PhaseTimes {
   double extract_s = 0;  // inside the engine, minus the time its sink took
   double write_s = 0;    // inside the mesh sink (writing the mesh)
   double render_s = 0;   // inside the render sink (drawing the picture); run_mesh_job adds the
-                         // frames written and the live window's updates
+                         // frames written and the live window's updates (with slab workers,
+                         // compositing their layers for them too)
   double total_s = 0;    // wall clock from the first slice to the engine's finish()
 };
 

@@ -325,7 +325,8 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
   // Frames and the live window follow the layers as they grow.
   std::optional<SlabPictureFollower> follower;
   if (options.picture && options.picture->follows_slices())
-    follower.emplace(*options.picture, cuts.slab_slices, cuts.depth, threads);
+    follower.emplace(*options.picture, cuts.count(), cuts.slab_slices, cuts.depth, threads,
+                     failure.cancellation());
 
   const auto start = Clock::now();
   double read_seconds = 0;

@@ -53,7 +53,10 @@ void check_image_extension(const std::string& path) {
 }
 
 void write_slice_image(const std::string& path, const SliceView& slice) {
-  const std::vector<unsigned char> encoded = encode_slice_image(path, slice);
+  write_image_file(path, encode_slice_image(path, slice));
+}
+
+void write_image_file(const std::string& path, const std::vector<unsigned char>& encoded) {
   OutputFile file(path);
   file.write(encoded.data(), encoded.size());
   file.commit();

@@ -15,6 +15,9 @@ void write_slice_image(const std::string& path, const SliceView& slice);
 // The bytes of the image file write_slice_image() would write, for a caller that commits the
 // file itself (say, together with others). Throws mvox::Error naming `path`.
 std::vector<unsigned char> encode_slice_image(const std::string& path, const SliceView& slice);
+// Writes `encoded` (encode_slice_image's bytes) to `path`, all or nothing. Throws mvox::Error
+// naming `path`.
+void write_image_file(const std::string& path, const std::vector<unsigned char>& encoded);
 
 // Loads OpenCV's image codecs now when a picture named `path` will be encoded through them (any
 // type but PNG), so that their memory, about 10 MiB once registered (Debian's OpenCV registers
