@@ -25,12 +25,29 @@ using test::run_mvox;
 using test::write_noise;
 
 // mpirun as a user runs it, quiet (its own banners off), as root too (the CI runs as root).
+// Open MPI's event library sometimes prints "[warn] Epoll MOD(1) on fd 29 failed. ...: Bad file
+// descriptor" as a job whose ranks exit with an error shuts down (its descriptors closed before
+// the event loop stops watching them; open-mpi/ompi#2004, #5520). The line is the runtime's,
+// not mvox-mpi's, and it comes in about one failing run in ten on a loaded machine: it is taken
+// out of the output the tests compare.
 test::CommandResult run_ranks(int ranks, const std::string& arguments,
                               const std::filesystem::path& directory) {
-  return run_command("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 '" MVOX_MPIEXEC
-                     "' --quiet --oversubscribe -np " +
-                         std::to_string(ranks) + " '" MVOX_MPI_BINARY "' " + arguments,
-                     directory);
+  test::CommandResult result =
+      run_command("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 '" MVOX_MPIEXEC
+                  "' --quiet --oversubscribe -np " +
+                      std::to_string(ranks) + " '" MVOX_MPI_BINARY "' " + arguments,
+                  directory);
+  std::string kept;
+  std::size_t start = 0;
+  while (start < result.output.size()) {
+    std::size_t end = result.output.find('\n', start);
+    end = end == std::string::npos ? result.output.size() : end + 1;
+    const std::string line = result.output.substr(start, end - start);
+    if (line.rfind("[warn] Epoll ", 0) != 0) kept += line;
+    start = end;
+  }
+  result.output = kept;
+  return result;
 }
 
 // Writes the mesh with `mvox extract --threads 1` and with 1 to 4 ranks, and compares.
