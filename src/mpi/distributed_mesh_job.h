@@ -39,7 +39,8 @@ namespace mvox {
 // Runs `job` on this rank; every rank of `world` calls it with the same job. Throws mvox::Error
 // on the rank that reports a failure and OtherRankFailed on the others (MpiWorld::step).
 // Refuses, as usage errors, what a distributed run cannot do: frames and the live window (one
-// process writes or shows the picture as it grows), standard output, --threads, and an input that the ranks cannot each read.
+// process writes or shows the picture as it grows), standard output, --threads, and an input
+// that the ranks cannot each read.
 void run_distributed_mesh_job(SliceSource& source, const MeshJob& job, MpiWorld& world);
 
 }  // namespace mvox

@@ -60,7 +60,9 @@ class SurfacePicture {
   void after_slice(std::uint32_t slices_done);
   // False when after_slice() does nothing (no frames, no window), so need not be called; a
   // slab-parallel run then needs no SlabPictureFollower either.
-  bool follows_slices() const { return !options_.frames_dir.empty() || live_window_ != nullptr; }
+  bool follows_slices() const { return writes_frames() || shows_window(); }
+  bool writes_frames() const { return !options_.frames_dir.empty(); }
+  bool shows_window() const { return live_window_ != nullptr; }
   // Seconds after_slice() has spent writing frames and updating the window: rendering time.
   double seconds_following() const { return seconds_following_; }
 
@@ -86,8 +88,6 @@ class SurfacePicture {
   std::string frame_path(std::uint32_t slices_done) const;
   void show_in_window(const std::uint8_t* pixels);
   void add_seconds_following(double seconds) { seconds_following_ += seconds; }
-  bool writes_frames() const { return !options_.frames_dir.empty(); }
-  bool shows_window() const { return live_window_ != nullptr; }
   // Forgets every layer composited so far, for the final compositing of a run whose frames
   // composited the layers as they grew: compositing adds the layers' counters.
   void start_over() { renderer_.clear(); }

@@ -18,13 +18,10 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// The renderer's picture as a slice view, its pixels read from `pixels` (a copy of them).
 SliceView view_of(const std::vector<std::uint8_t>& pixels, const ZBufferRenderer& renderer) {
-  SliceView view;
+  SliceView view = renderer.picture();
   view.samples = pixels.data();
-  view.width = renderer.width();
-  view.height = renderer.height();
-  view.row_stride_bytes = renderer.width();
-  view.type = SampleType::u8;
   return view;
 }
 

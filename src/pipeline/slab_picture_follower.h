@@ -10,11 +10,11 @@
 // those slabs cover, from a copy of the picture taken under the lock. It encodes them while the
 // others go on (encoding takes about a millisecond a frame at 512x512), and writes them once
 // every frame before them is written, so that frames appear in order, as one engine's do, and
-// none appears after one that failed. A frame so shows
-// at least the slices below its number, as one engine's frame of that name does, and also the
-// slabs that workers had drawn ahead by then: with a mesh, as many as a worker's recorded output
-// holds while it waits for its turn to write (a few slabs each); with a picture alone, any
-// number. The frames grow slab by slab and are not one engine's byte for byte. The last frame
+// none appears after one that failed. A frame so shows at least the slices below its number,
+// as one engine's frame of that name does, and also the slabs that workers had drawn ahead by
+// then: with a mesh, as many as a worker's recorded output holds while it waits for its turn to
+// write (a few slabs each); with a picture alone, any number. The frames grow slab by slab and
+// are not one engine's byte for byte. The last frame
 // and the picture are: the picture is cleared and the finished layers composited again
 // (SurfacePicture::start_over). The live window is shown on the calling thread, which opened
 // it, from a copy of its own.
