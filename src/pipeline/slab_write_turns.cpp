@@ -174,16 +174,17 @@ void SlabWriteTurns::replay_and_clear(SlabChunk& chunk) {
 }
 
 void SlabWriteTurns::hand_on(std::uint32_t slab) {
-  bool wake = false;
+  bool wake_workers = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     turn_.store(slab, std::memory_order_release);
     // Waking a thread costs tens of microseconds here: only workers that wait for a turn, and
     // the caller of wait_written() once all is written, are woken. The others see the turn at
     // their next call or between two slices.
-    wake = waiting_workers_ > 0 || slab == slabs_;
+    wake_workers = waiting_workers_ > 0;
   }
-  if (wake) changed_.notify_all();
+  if (wake_workers) changed_.notify_all();
+  if (slab == slabs_) all_written_.notify_all();
 }
 
 void SlabWriteTurns::refused(Status status) {
@@ -200,7 +201,7 @@ bool SlabWriteTurns::wait_written(const std::function<void(std::uint32_t)>& writ
     std::uint32_t turn = 0;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      changed_.wait_for(lock, kProgressInterval, [&] {
+      all_written_.wait_for(lock, kProgressInterval, [&] {
         return cancellation_.cancelled() || turn_.load(std::memory_order_relaxed) == slabs_;
       });
       if (cancellation_.cancelled()) return false;
@@ -214,6 +215,7 @@ bool SlabWriteTurns::wait_written(const std::function<void(std::uint32_t)>& writ
 void SlabWriteTurns::wake() {
   { std::lock_guard<std::mutex> lock(mutex_); }
   changed_.notify_all();
+  all_written_.notify_all();
 }
 
 }  // namespace mvox

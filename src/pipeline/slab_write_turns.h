@@ -98,7 +98,10 @@ class SlabWriteTurns {
   const Cancellation& cancellation_;
   std::function<void()> cancel_;
   std::mutex mutex_;
-  std::condition_variable changed_;
+  std::condition_variable changed_;  // workers waiting for a turn
+  // The caller of wait_written(), woken only when all is written or the run is cancelled: on
+  // changed_ it was woken with every waiting worker, and took a core from a worker each time.
+  std::condition_variable all_written_;
   std::atomic<std::uint32_t> turn_{0};  // the lowest slab not written yet
   std::vector<Pool> pools_;
   std::vector<std::unique_ptr<WorkerHandover>> handovers_;
