@@ -7,7 +7,8 @@
 #     medians of the rounds and of their ratios);
 # a PNG stack of the same size (mvox phantom blobs), where each worker decodes its own slabs;
 # the picture (--image) drawn by 1..MAX_THREADS, alone and with a frame every 10 slices;
-# mvox-mpi on 1..MAX_RANKS (default 4) ranks, oversubscribed, when it is built; and the peak
+# slices of 1024x1024 and 2048x2048 (in memory, to PLY, peak memory); mvox-mpi on
+# 1..MAX_RANKS (default 4) ranks, oversubscribed, when it is built; and the peak
 # memory of each end-to-end run on the volume and on one 4x as deep, to show it is flat in
 # depth. Prints Markdown.
 #   bench/threads_scaling.sh BUILD_DIR [RUNS] [DEPTH] [MAX_THREADS] [DATASETS_DIR]
@@ -140,6 +141,37 @@ echo "Each worker composites its layer into the picture when it has drawn a slab
 echo "frames the slabs drawn so far complete. The frames of all runs go to one directory."
 echo
 thread_runs frames "$raw" "--every 10 --frames $scratch/frames --image" png
+
+# Large slices, as micro-CT stacks have: the same engine resampled to 1024x1024x256 and
+# 2048x2048x64 (256 MiB each). Slabs of 8 slices here emit about 5 and 40 MB, more than a
+# worker's first four chunks hold: a worker ahead grows its chunks rather than wait
+# (most_chunks_per_worker), and the peak memory shows what that takes.
+echo "## Large slices: in memory, and raw file to binary PLY"
+echo
+for size in 1024x1024x256 2048x2048x64; do
+  width=${size%%x*}
+  slices=${size##*x}
+  "$build/bench/mvox_bench_resample" "$engine" 256x256x128 "$scratch/large.raw" "$size"
+  echo "### $size"
+  echo
+  "$build/bench/mvox_bench_threads" "$scratch/large.raw" "$size:u8" 100 "$max_threads" "$runs"
+  echo
+  thread_runs "large$width" "$scratch/large.raw --raw $size:u8 -t 100" -o ply
+  echo "| run | peak memory (median of $runs) |"
+  echo "|---|---|"
+  for threads in $(seq 1 "$max_threads"); do
+    for run in $(seq "$runs"); do
+      /usr/bin/time -f "%M" -o "$scratch/rss" "$mvox" extract "$scratch/large.raw" \
+        --raw "$size:u8" -t 100 -q -o "$scratch/m.ply" --threads "$threads"
+      cat "$scratch/rss"
+    done > "$scratch/rss_all"
+    echo "| --threads $threads | $(median < "$scratch/rss_all" | awk '{printf "%.1f MiB", $1 / 1024}') |"
+  done
+  echo
+  echo "($slices slices of ${width}x$width.)"
+  echo
+done
+rm -f "$scratch/large.raw" "$scratch"/large*.ply
 
 mpi=$build/src/mvox-mpi
 if [ -x "$mpi" ] && command -v mpirun > /dev/null; then

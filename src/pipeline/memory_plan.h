@@ -25,6 +25,9 @@ struct MemoryPlan {
   // Resident before the run: the program and the libraries it has loaded (OpenCV's codecs and
   // their dependencies are most of it).
   std::uint64_t process_bytes = 0;
+  // With slab workers: the chunks of recorded output each may hold (SlabOptions::most_chunks),
+  // as many as the budget leaves room for; 0 without them.
+  unsigned slab_chunks = 0;
 
   void add(const std::string& name, std::uint64_t bytes) { items.push_back({name, bytes}); }
   std::uint64_t job_bytes() const;                                           // sum of the items

@@ -182,8 +182,9 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   MemoryPlan plan;
   plan.process_bytes = current_resident_bytes();
   const unsigned threads = slab_threads(source, job);
+  SlabOptions slabs;
+  std::size_t slab_item = 0;
   if (threads > 1) {
-    SlabOptions slabs;
     slabs.threads = threads;
     slabs.slab_slices = job.slab_slices;
     slabs.normals = job.normals;
@@ -193,8 +194,15 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
       slabs.formatted_bytes_per_polygon = formatted_bytes_per_polygon(job.format);
       slabs.formatted_bytes_per_vertex = formatted_bytes_per_vertex(job.format, job.normals);
     }
-    plan.add(std::to_string(threads) + " slab workers (workspace, slices, window, recorded output)",
-             slab_pipeline_bytes(info, engine, slabs));
+    // The output recorded ahead of the writer, planned first with the chunks every worker
+    // starts with; once the rest of the plan is known, with as many more as the budget leaves
+    // room for (below).
+    slabs.most_chunks = kChunksPerWorker;
+    const std::uint64_t chunks = kChunksPerWorker * slab_chunk_bytes(engine, slabs);
+    plan.add(std::to_string(threads) + " slab workers (workspace, slices, window)",
+             slab_pipeline_bytes(info, engine, slabs) - chunks);
+    slab_item = plan.items.size();
+    plan.add("", chunks);
     if (picture) {
       // And the picture's own slab numbers, once the layers are composited; the copies of its
       // pixels that frames (one per worker) and a live window show (slab_picture_follower.h).
@@ -237,6 +245,25 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   if (!job.output.empty())
     plan.add("mesh writer buffers",
              mesh_writer_working_bytes(job.format, writes_in_background(source, job, threads)));
+  if (threads > 1) {
+    // Workers ahead of the writer may hold up to about a slab's output rather than wait for
+    // their turn (most_chunks_per_worker), but no more than the budget leaves room for: a run
+    // that fits with the first four chunks a worker is never refused for the others.
+    unsigned most = most_chunks_per_worker(info, slab_slices_of(info, job.slab_slices));
+    const std::uint64_t one_more = slab_chunk_bytes(engine, slabs);
+    if (job.budget.bytes > 0 && one_more > 0) {
+      const std::uint64_t total = plan.total_bytes();
+      const std::uint64_t room = job.budget.bytes > total ? job.budget.bytes - total : 0;
+      most =
+          static_cast<unsigned>(std::min<std::uint64_t>(most, kChunksPerWorker + room / one_more));
+    }
+    plan.slab_chunks = most;
+    const std::string chunks =
+        most > kChunksPerWorker ? std::to_string(kChunksPerWorker) + " to " + std::to_string(most)
+                                : std::to_string(most);
+    plan.items[slab_item] = {"output recorded ahead of the writer (" + chunks + " chunks a worker)",
+                             most * one_more};
+  }
   return plan;
 }
 
@@ -385,6 +412,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
       slabs.spacing = placement.spacing;
       slabs.picture = picture ? &*picture : nullptr;
       slabs.smooth_picture = picture && job.picture.smooth;
+      slabs.most_chunks = report.memory_plan.slab_chunks;
       // Frames and the window follow the workers' layers (slab_picture_follower.h), not slices.
       ProgressCallback slabs_done;
       if (progress.enabled()) slabs_done = [&](std::uint32_t done) { progress.update(done); };

@@ -230,6 +230,12 @@ const RangeReadable* own_range_reader(const SliceSource& source) {
   return ranges && ranges->range_readable() ? ranges : nullptr;
 }
 
+unsigned most_chunks_per_worker(const VolumeInfo& volume, std::uint32_t slab_slices) {
+  const std::uint64_t voxels = std::uint64_t{volume.width} * volume.height * slab_slices;
+  const std::uint64_t chunks = (voxels + SlabRecorder::kChunkBytes - 1) / SlabRecorder::kChunkBytes;
+  return static_cast<unsigned>(std::clamp<std::uint64_t>(chunks, kChunksPerWorker, 1024));
+}
+
 std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals) {
   return slab_slices + 1 + (normals ? 2 : 0);
 }
@@ -245,6 +251,21 @@ std::uint32_t slab_count(const VolumeInfo& volume, std::uint32_t requested) {
   return cuts.count();
 }
 
+namespace {
+
+unsigned most_chunks(const VolumeInfo& volume, const SlabOptions& options) {
+  return options.most_chunks > 0
+             ? std::max(options.most_chunks, kChunksPerWorker)
+             : most_chunks_per_worker(volume, slab_slices_of(volume, options.slab_slices));
+}
+
+}  // namespace
+
+std::uint64_t slab_chunk_bytes(const EngineOptions& engine, const SlabOptions& options) {
+  return options.threads * SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon,
+                                                     options.formatted_bytes_per_vertex);
+}
+
 std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
                                   const SlabOptions& options) {
   const std::uint64_t slice =
@@ -257,8 +278,9 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                                               options.needs_window())} *
                  slice) +
       (options.needs_window() ? kSliceWindowDepth * slice : 0) +
-      kChunksPerWorker * SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon,
-                                                   options.formatted_bytes_per_vertex) +
+      most_chunks(volume, options) * SlabChunk::reserved_bytes(engine,
+                                                               options.formatted_bytes_per_polygon,
+                                                               options.formatted_bytes_per_vertex) +
       // A worker's FaceFormatter is a MeshWriter with the batches of one; its
       // VertexTextFormatter has texts of floats of its own.
       (options.formatted_bytes_per_polygon > 0 ? kMeshWriterBatchBytes : 0) +
@@ -306,7 +328,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
   const std::size_t vertex_text_bytes = vertex_probe ? vertex_probe->most_bytes_per_vertex() : 0;
   turns = std::make_unique<SlabWriteTurns>(
       mesh, cuts.count(), threads, engine, failure.cancellation(), [&failure] { failure.cancel(); },
-      formatted_bytes, vertex_text_bytes);
+      most_chunks(info, options), formatted_bytes, vertex_text_bytes);
   for (std::uint32_t w = 0; w < threads; ++w) {
     // Workers that read their own slices need no slice buffers from the fan-out.
     const std::uint32_t buffers = ranges ? 0 : slab_buffer_slices(cuts.slab_slices, window);

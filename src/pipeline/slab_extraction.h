@@ -49,6 +49,9 @@ struct SlabOptions {
   bool smooth_picture = false;  // the picture is shaded with gradient normals
   // Each worker keeps a slice window: for the mesh's normals, or the picture's smooth shading.
   bool needs_window() const { return normals || smooth_picture; }
+  // Chunks of recorded output a worker may hold at most (SlabWriteTurns): 0 for
+  // most_chunks_per_worker(). A plan that must fit a memory budget can ask for fewer.
+  unsigned most_chunks = 0;
   // For slab_pipeline_bytes(): the working bytes of each worker's own slab reader, when the
   // input is read that way (own_range_reader); 0 when one thread reads and fans slices out.
   std::uint64_t reader_bytes = 0;
@@ -67,10 +70,18 @@ class RangeReadable;
 // or null when one thread must read it in order and hand the slices out (a pipe).
 const RangeReadable* own_range_reader(const SliceSource& source);
 
-// Chunks of recorded output per worker. A slab of the default size (about 1 MiB of samples)
-// emits about 1.2 MB on the paper's engine: with three chunks a worker ahead often had to wait
-// for the turn before it could start its next slab; with four it seldom does.
+// Chunks of recorded output a worker starts with. A slab of the default size (about 1 MiB of
+// samples) emits about 1.2 MB on the paper's engine: with three chunks a worker ahead often had
+// to wait for the turn before it could start its next slab; with four it seldom does.
 constexpr unsigned kChunksPerWorker = 4;
+
+// The chunks a worker may grow to, for slabs of `slab_slices` slices of `volume`: room for
+// about one byte of recorded output per voxel of its slab, and never fewer than
+// kChunksPerWorker. Large slices make slabs of 8 slices (default_slab_slices) whose output
+// does not fit four chunks: at 1024x1024 a slab emits about 5 MB, and a worker ahead that waits
+// for free chunks takes turns with the other instead of working beside it. A worker takes a
+// chunk more only when it would wait for one, so sparse surfaces keep four.
+unsigned most_chunks_per_worker(const VolumeInfo& volume, std::uint32_t slab_slices);
 
 // Slices per slab for slices of this size: about 1 MiB of samples a slab, 8 to 128 slices.
 // A slab's fixed cost (the slice before it is classified again: 1/8 more classification at 8
@@ -89,10 +100,12 @@ std::uint32_t slab_count(const VolumeInfo& volume, std::uint32_t requested);
 std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals);
 
 // The memory the slab pipeline adds for `threads` workers: their workspaces, windows, slice
-// buffers and chunks (SlabChunk::reserved_bytes each); picture layers not included
-// (PictureLayer::bytes each).
+// buffers and chunks (SlabChunk::reserved_bytes each, as many as a worker may hold); picture
+// layers not included (PictureLayer::bytes each). slab_chunk_bytes(): what one chunk more on
+// every worker adds.
 std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
                                   const SlabOptions& options);
+std::uint64_t slab_chunk_bytes(const EngineOptions& engine, const SlabOptions& options);
 
 // Extracts every slice of `source` into `mesh` (may be null when options.picture is set) and
 // options.picture as run_pipeline() does with one engine, with the same result (extraction

@@ -1,6 +1,8 @@
 #include "pipeline/slab_write_turns.h"
 
+#include <algorithm>
 #include <chrono>
+#include <new>
 #include <utility>
 
 #include "pipeline/slab_extraction.h"
@@ -11,7 +13,7 @@ namespace mvox {
 // One worker's chunks and where its slabs stand. Only the worker's own thread touches it: each
 // worker writes its own slabs.
 struct SlabWriteTurns::Pool {
-  std::vector<SlabChunk> storage;
+  std::vector<std::unique_ptr<SlabChunk>> storage;  // kChunksPerWorker, up to most_chunks_
   std::vector<SlabChunk*> free;
   std::deque<SlabChunk*> recorded;  // full chunks, oldest first, waiting to be written
   std::uint32_t slab = 0;           // the slab it extracts now (or extracted last)
@@ -36,24 +38,41 @@ class SlabWriteTurns::WorkerHandover final : public SlabRecorder::Handover {
 
 SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned workers,
                                const EngineOptions& engine, const Cancellation& cancellation,
-                               std::function<void()> cancel,
+                               std::function<void()> cancel, unsigned most_chunks,
                                std::size_t formatted_bytes_per_polygon,
                                std::size_t formatted_bytes_per_vertex)
     : replay_(mesh),
       slabs_(slabs),
       workers_(workers),
+      engine_(engine),
+      most_chunks_(std::max(most_chunks, kChunksPerWorker)),
+      formatted_bytes_per_polygon_(formatted_bytes_per_polygon),
+      formatted_bytes_per_vertex_(formatted_bytes_per_vertex),
       cancellation_(cancellation),
       cancel_(std::move(cancel)),
       pools_(workers) {
   for (unsigned w = 0; w < workers; ++w) {
     Pool& pool = pools_[w];
-    pool.storage.resize(kChunksPerWorker);
-    for (SlabChunk& chunk : pool.storage) {
-      chunk.reserve(engine, formatted_bytes_per_polygon, formatted_bytes_per_vertex);
-      pool.free.push_back(&chunk);
+    for (unsigned c = 0; c < kChunksPerWorker; ++c) {
+      pool.storage.push_back(std::make_unique<SlabChunk>());
+      pool.storage.back()->reserve(engine, formatted_bytes_per_polygon, formatted_bytes_per_vertex);
+      pool.free.push_back(pool.storage.back().get());
     }
     handovers_.push_back(std::make_unique<WorkerHandover>(*this, w));
   }
+}
+
+SlabChunk* SlabWriteTurns::grow(unsigned w) {
+  Pool& pool = pools_[w];
+  if (pool.storage.size() >= most_chunks_) return nullptr;
+  try {
+    auto chunk = std::make_unique<SlabChunk>();
+    chunk->reserve(engine_, formatted_bytes_per_polygon_, formatted_bytes_per_vertex_);
+    pool.storage.push_back(std::move(chunk));
+  } catch (const std::bad_alloc&) {
+    return nullptr;  // it waits for its turn instead, as with all its chunks taken
+  }
+  return pool.storage.back().get();
 }
 
 SlabWriteTurns::~SlabWriteTurns() = default;
@@ -97,6 +116,8 @@ SlabChunk* SlabWriteTurns::take(unsigned w) {
       pool.free.pop_back();
       return chunk;
     }
+    // Every chunk holds output not yet written: one more rather than wait for the turn.
+    if (SlabChunk* chunk = grow(w)) return chunk;
     std::unique_lock<std::mutex> lock(mutex_);
     if (turn_.load(std::memory_order_relaxed) != w + pool.written * workers_) wait_for_turn(lock);
   }

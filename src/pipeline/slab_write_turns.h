@@ -14,8 +14,10 @@
 // had the worker handing the turn on write the next slab itself when it was already extracted;
 // that put the writing unevenly on the workers, and a slab's chunks were read on the other core.)
 //
-// Each worker has kChunksPerWorker chunks. A worker ahead of the writer whose chunks are all
-// full waits until its turn comes, then writes them itself.
+// Each worker starts with kChunksPerWorker chunks. A worker ahead of the writer whose chunks
+// are all full takes one more, up to `most_chunks` (most_chunks_per_worker: about a slab's
+// output); past that, or when memory for one more cannot be had, it waits until its turn comes,
+// then writes them itself.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -38,11 +40,13 @@ class SlabWriteTurns {
   // `slabs` slabs, slab k extracted by worker k mod `workers`, written into `mesh` (may be null:
   // the slabs record nothing, and only their counters are summed). `cancel` stops the run when
   // the writer refuses; waits end when `cancellation` is set and wake() called.
+  // Each worker holds at most `most_chunks` chunks (at least kChunksPerWorker).
   // `formatted_bytes_per_polygon` and `formatted_bytes_per_vertex`: for SlabChunk::reserve, when
   // workers format their faces or their vertex lines.
   SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned workers,
                  const EngineOptions& engine, const Cancellation& cancellation,
-                 std::function<void()> cancel, std::size_t formatted_bytes_per_polygon = 0,
+                 std::function<void()> cancel, unsigned most_chunks,
+                 std::size_t formatted_bytes_per_polygon = 0,
                  std::size_t formatted_bytes_per_vertex = 0);
   ~SlabWriteTurns();
 
@@ -72,6 +76,8 @@ class SlabWriteTurns {
   class WorkerHandover;
 
   SlabChunk* take(unsigned w);
+  // A new chunk for worker w while it holds fewer than most_chunks_, or null.
+  SlabChunk* grow(unsigned w);
   void full(unsigned w, SlabChunk* chunk);
   SlabReplay* writer(unsigned w, SlabChunk* current);
   void refused(Status status);
@@ -95,6 +101,10 @@ class SlabWriteTurns {
   SlabReplay replay_;
   std::uint32_t slabs_;
   unsigned workers_;
+  EngineOptions engine_;  // what a chunk reserves room for (SlabChunk::reserve)
+  unsigned most_chunks_;
+  std::size_t formatted_bytes_per_polygon_;
+  std::size_t formatted_bytes_per_vertex_;
   const Cancellation& cancellation_;
   std::function<void()> cancel_;
   std::mutex mutex_;
