@@ -143,7 +143,8 @@ run_all() {
     # renderer's work counters (triangles drawn or hidden, fragments written): they count what
     # the drawing order made it do, and slab workers draw in another order (the picture is the
     # same; README, Threads).
-    local varying='time_seconds|extract_mvoxels_per_second|start_memory_bytes|peak_memory_bytes|job_memory_bytes|memory_plan'
+    # The chunks a slab worker took depend on how far ahead of the writer it got.
+    local varying='time_seconds|extract_mvoxels_per_second|start_memory_bytes|peak_memory_bytes|job_memory_bytes|memory_plan|slab_chunks_taken'
     [ -n "${AFTER_ARGS:-}" ] && varying="$varying|render"
     if [ -f "$dir/s.json" ]; then
       grep -v -E "\"($varying)\"" "$dir/s.json" > "$dir/s.counters"

@@ -247,22 +247,28 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
              mesh_writer_working_bytes(job.format, writes_in_background(source, job, threads)));
   if (threads > 1) {
     // Workers ahead of the writer may hold up to about a slab's output rather than wait for
-    // their turn (most_chunks_per_worker), but no more than the budget leaves room for: a run
-    // that fits with the first four chunks a worker is never refused for the others.
-    unsigned most = most_chunks_per_worker(info, slab_slices_of(info, job.slab_slices));
+    // their turn (most_chunks_per_worker), in at most half the room the budget leaves (the
+    // default budget is the machine's memory, not what is free of it): a run that fits with the
+    // first four chunks a worker is never refused for the others. Without a mesh the chunks
+    // carry only how each slab ended, and a worker takes no more (run_slab_pipeline).
+    unsigned most = job.output.empty()
+                        ? kChunksPerWorker
+                        : most_chunks_per_worker(info, slab_slices_of(info, job.slab_slices));
     const std::uint64_t one_more = slab_chunk_bytes(engine, slabs);
     if (job.budget.bytes > 0 && one_more > 0) {
       const std::uint64_t total = plan.total_bytes();
       const std::uint64_t room = job.budget.bytes > total ? job.budget.bytes - total : 0;
-      most =
-          static_cast<unsigned>(std::min<std::uint64_t>(most, kChunksPerWorker + room / one_more));
+      most = static_cast<unsigned>(
+          std::min<std::uint64_t>(most, kChunksPerWorker + room / 2 / one_more));
     }
     plan.slab_chunks = most;
     const std::string chunks =
         most > kChunksPerWorker ? std::to_string(kChunksPerWorker) + " to " + std::to_string(most)
                                 : std::to_string(most);
-    plan.items[slab_item] = {"output recorded ahead of the writer (" + chunks + " chunks a worker)",
-                             most * one_more};
+    plan.items[slab_item] = {
+        job.output.empty() ? "chunks that carry how each slab ended (" + chunks + " a worker)"
+                           : "output recorded ahead of the writer (" + chunks + " chunks a worker)",
+        most * one_more};
   }
   return plan;
 }
@@ -412,7 +418,7 @@ RunReport run_mesh_job(SliceSource& source, const MeshJob& job) {
       slabs.spacing = placement.spacing;
       slabs.picture = picture ? &*picture : nullptr;
       slabs.smooth_picture = picture && job.picture.smooth;
-      slabs.most_chunks = report.memory_plan.slab_chunks;
+      slabs.most_chunks = report.memory_plan.slab_chunks;  // as the budget allows
       // Frames and the window follow the workers' layers (slab_picture_follower.h), not slices.
       ProgressCallback slabs_done;
       if (progress.enabled()) slabs_done = [&](std::uint32_t done) { progress.update(done); };

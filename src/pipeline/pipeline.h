@@ -35,6 +35,9 @@ struct PipelineResult {
   DecimationCounts decimation;
   PhaseTimes times;
   std::size_t workspace_bytes = 0;
+  // Slab workers: the most chunks of recorded output one of them held
+  // (SlabWriteTurns::most_chunks_taken); 0 for one engine.
+  unsigned slab_chunks_taken = 0;
 };
 
 // Where the engine's output goes; every member may be null.

@@ -233,7 +233,7 @@ const RangeReadable* own_range_reader(const SliceSource& source) {
 unsigned most_chunks_per_worker(const VolumeInfo& volume, std::uint32_t slab_slices) {
   const std::uint64_t voxels = std::uint64_t{volume.width} * volume.height * slab_slices;
   const std::uint64_t chunks = (voxels + SlabRecorder::kChunkBytes - 1) / SlabRecorder::kChunkBytes;
-  return static_cast<unsigned>(std::clamp<std::uint64_t>(chunks, kChunksPerWorker, 1024));
+  return static_cast<unsigned>(std::clamp<std::uint64_t>(chunks, kChunksPerWorker, kMostChunks));
 }
 
 std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals) {
@@ -328,7 +328,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
   const std::size_t vertex_text_bytes = vertex_probe ? vertex_probe->most_bytes_per_vertex() : 0;
   turns = std::make_unique<SlabWriteTurns>(
       mesh, cuts.count(), threads, engine, failure.cancellation(), [&failure] { failure.cancel(); },
-      most_chunks(info, options), formatted_bytes, vertex_text_bytes);
+      mesh ? most_chunks(info, options) : kChunksPerWorker, formatted_bytes, vertex_text_bytes);
   for (std::uint32_t w = 0; w < threads; ++w) {
     // Workers that read their own slices need no slice buffers from the fan-out.
     const std::uint32_t buffers = ranges ? 0 : slab_buffer_slices(cuts.slab_slices, window);
@@ -419,6 +419,7 @@ PipelineResult run_slab_pipeline(SliceSource& source, double threshold, const En
   }
 
   result.counters = turns->counters();
+  result.slab_chunks_taken = turns->most_chunks_taken();
   result.times.total_s = seconds_since(start);
   result.times.read_s = read_seconds;
   result.times.write_s = write_seconds;

@@ -15,8 +15,8 @@
 //
 // Memory is fixed, whatever the depth: per worker an engine workspace, a slice window when
 // normals are wanted, its own slab reader or a slab's slice buffers (slab_buffer_slices), and
-// kChunksPerWorker chunks; a worker ahead whose chunks are all full waits for its turn.
-// slab_pipeline_bytes() says how much.
+// kChunksPerWorker chunks, up to most_chunks_per_worker() when a worker ahead would otherwise
+// wait for its turn; past that it waits. slab_pipeline_bytes() says how much.
 //
 // A reading error is reported as one thread reading in order would report it: the first bad
 // slice in the volume, even when workers reading in parallel came to a later one first.
@@ -76,12 +76,17 @@ const RangeReadable* own_range_reader(const SliceSource& source);
 constexpr unsigned kChunksPerWorker = 4;
 
 // The chunks a worker may grow to, for slabs of `slab_slices` slices of `volume`: room for
-// about one byte of recorded output per voxel of its slab, and never fewer than
-// kChunksPerWorker. Large slices make slabs of 8 slices (default_slab_slices) whose output
-// does not fit four chunks: at 1024x1024 a slab emits about 5 MB, and a worker ahead that waits
-// for free chunks takes turns with the other instead of working beside it. A worker takes a
-// chunk more only when it would wait for one, so sparse surfaces keep four.
+// about one byte of recorded output per voxel of its slab (a chunk holds 512 KiB and reserves
+// up to about 1.5 MiB, SlabChunk::reserved_bytes), at least kChunksPerWorker and at most
+// kMostChunks. Large slices make slabs of 8 slices (default_slab_slices) whose output does not
+// fit four chunks: at 1024x1024 a slab emits about 5 MB, and a worker ahead that waits for free
+// chunks takes turns with the other instead of working beside it. A worker takes a chunk more
+// only when all its chunks hold output not yet written: it is then ahead of the writer by what
+// they hold (a slab at least, as each slab starts a chunk of its own).
 unsigned most_chunks_per_worker(const VolumeInfo& volume, std::uint32_t slab_slices);
+// 64 chunks: the 2048x2048 slabs of 8 slices. Beyond, recording (written to memory and read
+// back) limits two workers more than waiting does, and each chunk costs memory.
+constexpr unsigned kMostChunks = 64;
 
 // Slices per slab for slices of this size: about 1 MiB of samples a slab, 8 to 128 slices.
 // A slab's fixed cost (the slice before it is classified again: 1/8 more classification at 8

@@ -13,7 +13,8 @@ namespace mvox {
 // One worker's chunks and where its slabs stand. Only the worker's own thread touches it: each
 // worker writes its own slabs.
 struct SlabWriteTurns::Pool {
-  std::vector<std::unique_ptr<SlabChunk>> storage;  // kChunksPerWorker, up to most_chunks_
+  std::vector<std::unique_ptr<SlabChunk>> storage;  // kChunksPerWorker, up to `most`
+  unsigned most = 0;  // most_chunks_, or what it had when memory for one more ran out
   std::vector<SlabChunk*> free;
   std::deque<SlabChunk*> recorded;  // full chunks, oldest first, waiting to be written
   std::uint32_t slab = 0;           // the slab it extracts now (or extracted last)
@@ -53,6 +54,9 @@ SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned w
       pools_(workers) {
   for (unsigned w = 0; w < workers; ++w) {
     Pool& pool = pools_[w];
+    pool.most = most_chunks_;
+    pool.storage.reserve(pool.most);  // growing then allocates only the chunk
+    pool.free.reserve(pool.most);
     for (unsigned c = 0; c < kChunksPerWorker; ++c) {
       pool.storage.push_back(std::make_unique<SlabChunk>());
       pool.storage.back()->reserve(engine, formatted_bytes_per_polygon, formatted_bytes_per_vertex);
@@ -64,18 +68,27 @@ SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned w
 
 SlabChunk* SlabWriteTurns::grow(unsigned w) {
   Pool& pool = pools_[w];
-  if (pool.storage.size() >= most_chunks_) return nullptr;
+  if (pool.storage.size() >= pool.most) return nullptr;
   try {
     auto chunk = std::make_unique<SlabChunk>();
     chunk->reserve(engine_, formatted_bytes_per_polygon_, formatted_bytes_per_vertex_);
     pool.storage.push_back(std::move(chunk));
   } catch (const std::bad_alloc&) {
-    return nullptr;  // it waits for its turn instead, as with all its chunks taken
+    // It waits for its turn instead, as with all its chunks taken, and tries no more: a later
+    // failure would only overwrite the size an out-of-memory message would name.
+    pool.most = static_cast<unsigned>(pool.storage.size());
+    return nullptr;
   }
   return pool.storage.back().get();
 }
 
 SlabWriteTurns::~SlabWriteTurns() = default;
+
+unsigned SlabWriteTurns::most_chunks_taken() const {
+  std::size_t most = 0;
+  for (const Pool& pool : pools_) most = std::max(most, pool.storage.size());
+  return static_cast<unsigned>(most);
+}
 
 SlabRecorder::Handover& SlabWriteTurns::handover(unsigned w) { return *handovers_[w]; }
 

@@ -70,6 +70,9 @@ class SlabWriteTurns {
   Status status() const { return status_; }
   const EngineCounters& counters() const { return replay_.counters(); }
   double replay_seconds() const { return replay_seconds_; }
+  // Once every worker has stopped: the most chunks one of them held (kChunksPerWorker unless a
+  // worker ahead took more).
+  unsigned most_chunks_taken() const;
 
  private:
   struct Pool;

@@ -152,7 +152,8 @@ std::string run_report_json(const RunReport& r) {
       << "  \"job_memory_bytes\": "
       << (r.peak_memory_bytes > r.start_memory_bytes ? r.peak_memory_bytes - r.start_memory_bytes
                                                      : 0)
-      << "\n"
+      << ",\n"
+      << "  \"slab_chunks_taken\": " << r.result.slab_chunks_taken << "\n"
       << "}\n";
   return out.str();
 }

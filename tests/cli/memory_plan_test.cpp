@@ -130,9 +130,9 @@ TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
     EXPECT_LE(measured, planned * 1.02 + (1 << 20)) << json;
     const bool slabs = outputs.find("--threads") != std::string::npos;
     // The plan counts every worker's chunks of recorded output, as many as it may grow to (up
-    // to 1.5 MiB each), which a long run over a dense surface touches; a worker takes more than
-    // its first four only when it would otherwise wait for its turn, so on this sparse surface
-    // they are left out of what the run must come near. In these two-slab runs the first slab's
+    // to 1.5 MiB each); a worker takes more than its first four only when it gets that far
+    // ahead of the writer, which depends on how the threads run, so those are left out of what
+    // the run must come near. In these two-slab runs the first slab's
     // worker has the turn to write throughout and records nothing (slab_write_turns.h), so half
     // the first chunks are never touched either. STL's chunks also have room for a polygon batch
     // of seven-gons, five triangles each, which a real surface does not come near.
@@ -142,8 +142,9 @@ TEST_F(MemoryPlanCli, ThePlanBoundsTheMemoryTheRunTook) {
     const double most_chunks =
         slabs ? std::stod(json.substr(recorded_at + recorded.size())) : kChunksPerWorker;
     const double recorded_bytes = slabs ? number_after(json.substr(recorded_at), "bytes") : 0;
-    // 1024x1024 slabs of 4 slices: a worker may hold 8 chunks, about a slab's output.
-    if (slabs) EXPECT_EQ(most_chunks, 8) << json;
+    // 1024x1024 slabs of 4 slices: a worker may hold 8 chunks, about a slab's output (when the
+    // budget leaves room: a small container's may not).
+    if (slabs && number_after(json, "budget_bytes") > (1 << 30)) EXPECT_EQ(most_chunks, 8) << json;
     const double grown = recorded_bytes * (most_chunks - kChunksPerWorker) / most_chunks;
     const bool stl = outputs.find(".stl") != std::string::npos;
     EXPECT_GE(measured, (planned - grown) * (slabs ? (stl ? 0.3 : 0.4) : 0.6)) << json;
@@ -195,8 +196,9 @@ TEST_F(MemoryPlanCli, WorkersGrowTheirRecordedOutputOnlyAsFarAsTheBudgetLeavesRo
   const double total = number_after(free_json, "total_bytes");
   const double one_chunk_each =
       number_after(free_json.substr(free_json.find(recorded)), "bytes") / 8;
-  // Room for two chunks more a worker than the first four, and half of a third.
-  const auto budget = static_cast<std::uint64_t>(total - 1.5 * one_chunk_each);
+  // A budget of what the plan takes with 8 chunks a worker leaves room for 4 more each, and the
+  // workers grow into half of it: 6.
+  const auto budget = static_cast<std::uint64_t>(total);
   const auto bounded = run_mvox(run + " --max-memory " + std::to_string(budget), dir_.path());
   ASSERT_EQ(bounded.exit_code, 0) << bounded.output;
   const std::string json = read("report.json");
@@ -205,6 +207,7 @@ TEST_F(MemoryPlanCli, WorkersGrowTheirRecordedOutputOnlyAsFarAsTheBudgetLeavesRo
   EXPECT_GE(chunks, 5) << json;
   EXPECT_LE(chunks, 7) << json;
   EXPECT_LE(number_after(json, "total_bytes"), budget) << json;
+  EXPECT_LE(number_after(json, "slab_chunks_taken"), chunks) << json;  // the run kept to it
   const auto one = run_mvox(kVolume + " -o one.ply --threads 1 -q", dir_.path());
   ASSERT_EQ(one.exit_code, 0) << one.output;
   EXPECT_TRUE(test::read_bytes(dir_.path() / "mesh.ply") ==
