@@ -93,12 +93,8 @@ TEST(SlabChunkGrowth, AWorkerMayHoldAboutOneByteOfOutputPerVoxelOfItsSlab) {
 // growing it would wait for ever; the test gives up after 20 s). Then worker 0 extracts slab 0,
 // writing straight, and worker 1 writes what it recorded: the file is one engine's.
 TEST(SlabChunkGrowth, ASlabRecordedInMoreThanFourChunksIsWrittenAsOneEngineWritesIt) {
-  VolumeInfo info;
-  info.width = 128;
-  info.height = 128;
-  info.depth = 16;
-  info.type = SampleType::u8;
-  const auto samples = test::noise_samples(std::size_t{info.width} * info.height * info.depth, 3);
+  const VolumeInfo info = test::u8_volume(128, 128, 16);
+  const auto samples = test::noise_samples(info, 3);
   test::ScratchDirectory dir;
   const EngineOptions engine;
   {

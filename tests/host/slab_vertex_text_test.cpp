@@ -67,12 +67,8 @@ const TextFormat kTextFormats[] = {{MeshFormat::obj, "m.obj"}, {MeshFormat::ply_
 // the vertices of the slice before it, and each slab's vertex lines are recorded by a worker
 // whose turn never comes, then replayed in order.
 TEST(SlabVertexText, RecordedVertexLinesReplayAsOneEnginesFile) {
-  VolumeInfo info;
-  info.width = 21;
-  info.height = 17;
-  info.depth = 29;
-  info.type = SampleType::u8;
-  const auto samples = test::noise_samples(std::size_t{info.width} * info.height * info.depth, 9);
+  const VolumeInfo info = test::u8_volume(21, 17, 29);
+  const auto samples = test::noise_samples(info, 9);
   for (const TextFormat& text : kTextFormats) {
     SCOPED_TRACE(mesh_format_name(text.format));
     test::ScratchDirectory one_dir, recorded_dir;

@@ -25,6 +25,19 @@ const std::vector<MeshCase>& every_format_and_option() {
   return cases;
 }
 
+VolumeInfo u8_volume(std::uint32_t width, std::uint32_t height, std::uint32_t depth) {
+  VolumeInfo volume;
+  volume.width = width;
+  volume.height = height;
+  volume.depth = depth;
+  volume.type = SampleType::u8;
+  return volume;
+}
+
+std::vector<std::uint8_t> noise_samples(const VolumeInfo& volume, std::uint64_t seed) {
+  return noise_samples(std::size_t{volume.width} * volume.height * volume.depth, seed);
+}
+
 std::vector<std::uint8_t> noise_samples(std::size_t voxels, std::uint64_t seed) {
   std::vector<std::uint8_t> bytes(voxels);
   std::uint64_t state = seed;

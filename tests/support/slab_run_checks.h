@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "mvox/slice_source.h"
+
 namespace mvox::test {
 
 // A mesh format (its extension) and `extract` options.
@@ -21,6 +23,9 @@ const std::vector<MeshCase>& every_format_and_option();
 void write_noise(const std::string& path, std::uint32_t voxels, std::uint64_t seed);
 // The same noise in memory.
 std::vector<std::uint8_t> noise_samples(std::size_t voxels, std::uint64_t seed);
+// An 8-bit volume of width x height x depth voxels, and its noise.
+VolumeInfo u8_volume(std::uint32_t width, std::uint32_t height, std::uint32_t depth);
+std::vector<std::uint8_t> noise_samples(const VolumeInfo& volume, std::uint64_t seed);
 
 // The counters of a --stats report: from "inner_voxels" to the times (which, with the memory
 // figures and the renderer's work counters after them, differ from run to run). Fails the test
