@@ -13,8 +13,8 @@
 // none appears after one that failed. A frame so shows at least the slices below its number,
 // as one engine's frame of that name does, and also the slabs that workers had drawn ahead by
 // then: with a mesh, as many as a worker's recorded output holds while it waits for its turn to
-// write (a slab or more each, up to most_chunks_per_worker); with a picture alone, any number. The frames grow slab by slab and
-// are not one engine's byte for byte. The last frame
+// write (a slab or more each, up to most_chunks_per_worker); with a picture alone, any number.
+// The frames grow slab by slab and are not one engine's byte for byte. The last frame
 // and the picture are: the picture is cleared and the finished layers composited again
 // (SurfacePicture::start_over). The live window is shown on the calling thread, which opened
 // it, from a copy of its own.
