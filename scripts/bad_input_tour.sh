@@ -269,7 +269,7 @@ tour "raw volume too short" "head -c 960 /dev/zero > volume.raw" \
 tour "raw volume too long" "head -c 960 /dev/zero > volume.raw" \
   "mvox extract volume.raw --raw 12x10x7:u8 -t 1 $outputs"
 tour "raw volume from a pipe, too short" "" \
-  "head -c 960 /dev/zero | mvox extract /dev/stdin --raw 12x10x9:u8 -t 1 $outputs"
+  "head -c 960 /dev/zero | mvox extract - --raw 12x10x9:u8 -t 1 $outputs"
 tour "raw slice of the wrong size" \
   "mkdir raw; for k in 0 1 2; do head -c 120 /dev/zero > raw/s.\$k; done; head -c 119 /dev/zero > raw/s.1" \
   "mvox extract raw --raw 12x10:u8 -t 1 $outputs"

@@ -306,7 +306,9 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                    "may hold many pages), a DICOM series (a directory or files; recognised by "
                    "content), one NRRD (.nrrd, .nhdr), MetaImage (.mhd, .mha) or NIfTI (.nii, "
                    ".nii.gz, .hdr) volume, raw "
-                   "slice files, or one raw volume file (with --raw)")
+                   "slice files, or one raw volume file (with --raw); '-' for standard input "
+                   "(a raw volume piped in)")
+      ->transform(standard_input_dash())
       ->required();
   args->threshold_option =
       command

@@ -1,8 +1,12 @@
 #include "cli/option_validators.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <system_error>
 
 #include "write/mesh/world_transform.h"
 
@@ -92,6 +96,21 @@ CLI::Validator whole_number_from(std::uint64_t lowest, std::uint64_t highest) {
         return {};
       },
       "INT in [" + std::to_string(lowest) + " - " + std::to_string(highest) + "]");
+}
+
+CLI::Validator standard_input_dash() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::error_code error;
+        if (text != "-" || std::filesystem::exists(std::filesystem::symlink_status(text, error)))
+          return {};
+        if (::isatty(STDIN_FILENO))
+          return "- is standard input, which is a terminal here: pipe the volume in (zcat "
+                 "scan.raw.gz | mvox extract - --raw WxHxD:TYPE ...) or name its file";
+        text = "/dev/stdin";
+        return {};
+      },
+      "");
 }
 
 }  // namespace mvox

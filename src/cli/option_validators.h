@@ -27,6 +27,11 @@ CLI::Validator origin_number();
 // that CLI11's own conversion cannot read "010" as octal.
 CLI::Validator whole_number_from(std::uint64_t lowest, std::uint64_t highest);
 
+// An input argument: "-" stands for standard input (/dev/stdin), as pipelines write it, unless
+// a file named "-" exists. Refused when standard input is a terminal: reading it would wait for
+// typing that never makes a volume.
+CLI::Validator standard_input_dash();
+
 // `text` as a whole number of decimal digits only, at most `highest`; false for anything else,
 // an empty text or a value past `highest` included (no wrap-around).
 bool parse_whole_number(const std::string& text, std::uint64_t highest, std::uint64_t* value);

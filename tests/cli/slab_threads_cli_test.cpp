@@ -373,6 +373,39 @@ TEST(SlabThreads, EveryKindOfInputIsTheSameBytesForAnyNumberOfThreads) {
   }
 }
 
+// "-" is standard input, as pipelines write it: a raw volume piped in is read once and fanned
+// out to the workers, as from /dev/stdin. A terminal there is refused before anything is read,
+// and a file that is really named "-" is still that file.
+TEST(SlabThreads, ADashIsStandardInput) {
+  test::ScratchDirectory dir;
+  write_noise(dir / "noise.raw", 19 * 13 * 29, 4);
+  const std::string volume = " --raw 19x13x29:u8 -t 128 -q --slab-slices 4";
+  ASSERT_EQ(
+      run_mvox("extract noise.raw" + volume + " -o file.ply --threads 1", dir.path()).exit_code, 0);
+  const test::CommandResult piped =
+      run_mvox("extract -" + volume + " -o piped.ply --threads 3", dir.path(), "cat noise.raw |");
+  ASSERT_EQ(piped.exit_code, 0) << piped.output;
+  EXPECT_TRUE(test::read_bytes(dir.path() / "piped.ply") ==
+              test::read_bytes(dir.path() / "file.ply"));
+
+  // script(1) gives mvox a terminal for its standard input; a build that read it would wait for
+  // typing, which timeout ends.
+  const test::CommandResult terminal = run_mvox("extract -" + volume + " -o tty.ply\" /dev/null",
+                                                dir.path(), "timeout 20 script -qec \"");
+  EXPECT_EQ(terminal.exit_code, 2) << terminal.output;
+  EXPECT_NE(terminal.output.find("- is standard input, which is a terminal here"),
+            std::string::npos)
+      << terminal.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "tty.ply"));
+
+  std::filesystem::copy_file(dir.path() / "noise.raw", dir.path() / "-");
+  const test::CommandResult named =
+      run_mvox("extract -" + volume + " -o named.ply --threads 2 < /dev/null", dir.path());
+  ASSERT_EQ(named.exit_code, 0) << named.output;
+  EXPECT_TRUE(test::read_bytes(dir.path() / "named.ply") ==
+              test::read_bytes(dir.path() / "file.ply"));
+}
+
 TEST(SlabThreads, AStackThatFailsMidwayFailsAsWithOneThread) {
   test::ScratchDirectory dir;
   ASSERT_EQ(run_mvox("phantom sphere -o stack --size 24x24x40 -q", dir.path()).exit_code, 0);
