@@ -184,6 +184,7 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   const unsigned threads = slab_threads(source, job);
   SlabOptions slabs;
   std::size_t slab_item = 0;
+  std::uint64_t one_more = 0;  // one chunk more on every worker
   if (threads > 1) {
     slabs.threads = threads;
     slabs.slab_slices = job.slab_slices;
@@ -198,7 +199,8 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     // starts with; once the rest of the plan is known, with as many more as the budget leaves
     // room for (below).
     slabs.most_chunks = kChunksPerWorker;
-    const std::uint64_t chunks = kChunksPerWorker * slab_chunk_bytes(engine, slabs);
+    one_more = slab_chunk_bytes(engine, slabs);
+    const std::uint64_t chunks = kChunksPerWorker * one_more;
     plan.add(std::to_string(threads) + " slab workers (workspace, slices, window)",
              slab_pipeline_bytes(info, engine, slabs) - chunks);
     slab_item = plan.items.size();
@@ -254,7 +256,6 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
     unsigned most = job.output.empty()
                         ? kChunksPerWorker
                         : most_chunks_per_worker(info, slab_slices_of(info, job.slab_slices));
-    const std::uint64_t one_more = slab_chunk_bytes(engine, slabs);
     if (job.budget.bytes > 0 && one_more > 0) {
       const std::uint64_t total = plan.total_bytes();
       const std::uint64_t room = job.budget.bytes > total ? job.budget.bytes - total : 0;

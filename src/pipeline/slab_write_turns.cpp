@@ -14,7 +14,7 @@ namespace mvox {
 // worker writes its own slabs.
 struct SlabWriteTurns::Pool {
   std::vector<std::unique_ptr<SlabChunk>> storage;  // kChunksPerWorker, up to `most`
-  unsigned most = 0;  // most_chunks_, or what it had when memory for one more ran out
+  unsigned most = 0;  // the constructor's most_chunks, or what it had when memory ran out
   std::vector<SlabChunk*> free;
   std::deque<SlabChunk*> recorded;  // full chunks, oldest first, waiting to be written
   std::uint32_t slab = 0;           // the slab it extracts now (or extracted last)
@@ -46,7 +46,6 @@ SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned w
       slabs_(slabs),
       workers_(workers),
       engine_(engine),
-      most_chunks_(std::max(most_chunks, kChunksPerWorker)),
       formatted_bytes_per_polygon_(formatted_bytes_per_polygon),
       formatted_bytes_per_vertex_(formatted_bytes_per_vertex),
       cancellation_(cancellation),
@@ -54,7 +53,7 @@ SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned w
       pools_(workers) {
   for (unsigned w = 0; w < workers; ++w) {
     Pool& pool = pools_[w];
-    pool.most = most_chunks_;
+    pool.most = std::max(most_chunks, kChunksPerWorker);
     pool.storage.reserve(pool.most);  // growing then allocates only the chunk
     pool.free.reserve(pool.most);
     for (unsigned c = 0; c < kChunksPerWorker; ++c) {

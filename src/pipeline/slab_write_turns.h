@@ -79,7 +79,7 @@ class SlabWriteTurns {
   class WorkerHandover;
 
   SlabChunk* take(unsigned w);
-  // A new chunk for worker w while it holds fewer than most_chunks_, or null.
+  // A new chunk for worker w while it holds fewer than its most (Pool::most), or null.
   SlabChunk* grow(unsigned w);
   void full(unsigned w, SlabChunk* chunk);
   SlabReplay* writer(unsigned w, SlabChunk* current);
@@ -105,7 +105,6 @@ class SlabWriteTurns {
   std::uint32_t slabs_;
   unsigned workers_;
   EngineOptions engine_;  // what a chunk reserves room for (SlabChunk::reserve)
-  unsigned most_chunks_;
   std::size_t formatted_bytes_per_polygon_;
   std::size_t formatted_bytes_per_vertex_;
   const Cancellation& cancellation_;
