@@ -29,7 +29,7 @@ InflateReader::InflateReader(RawFile& file, std::uint64_t offset, std::uint64_t 
       next_input_offset_(offset),
       end_(end) {
   if (inflateInit2(&stream_->z, kDetectZlibOrGzip) != Z_OK) {
-    throw Error(file_.path(), "cannot start zlib decompression (out of memory)");
+    throw Error(file_.name(), "cannot start zlib decompression (out of memory)");
   }
 }
 
@@ -73,8 +73,8 @@ std::size_t InflateReader::inflate_some(unsigned char* out, std::size_t count) {
       break;
     }
     const std::string detail = z.msg ? z.msg : ("zlib error " + std::to_string(status));
-    if (status == Z_MEM_ERROR) throw Error(file_.path(), "out of memory while decompressing");
-    throw Error(file_.path(), "compressed data are corrupt after " +
+    if (status == Z_MEM_ERROR) throw Error(file_.name(), "out of memory while decompressing");
+    throw Error(file_.name(), "compressed data are corrupt after " +
                                   std::to_string(position_ + (asked - z.avail_out)) +
                                   " decompressed bytes (zlib: " + detail + ")");
   }
@@ -90,7 +90,7 @@ void InflateReader::read(void* bytes, std::size_t count, std::uint64_t expected_
   while (done < count) {
     const std::size_t got = inflate_some(out + done, count - done);
     if (got == 0) {
-      throw Error(file_.path(), "compressed data end after " + std::to_string(position_) +
+      throw Error(file_.name(), "compressed data end after " + std::to_string(position_) +
                                     " bytes, expected " + std::to_string(expected_total) + " for " +
                                     what);
     }

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "read/file_names.h"
+#include "read/input_name.h"
 #include "read/natural_sort.h"
 
 namespace fs = std::filesystem;
@@ -190,7 +191,7 @@ std::vector<std::string> list_input_files(const std::vector<std::string>& inputs
 }
 
 std::string inputs_label(const std::vector<std::string>& inputs) {
-  if (inputs.size() == 1) return inputs[0];
+  if (inputs.size() == 1) return input_name(inputs[0]);
   return inputs.front() + " ... " + inputs.back() + " (" + std::to_string(inputs.size()) +
          " inputs)";
 }

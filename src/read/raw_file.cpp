@@ -10,22 +10,23 @@
 
 #include "error.h"
 #include "read/buffer_allocation.h"
+#include "read/input_name.h"
 #include "read/read_cancellation.h"
 
 namespace mvox {
 
-RawFile::RawFile(const std::string& path, const char* kind) : path_(path) {
+RawFile::RawFile(const std::string& path, const char* kind) : path_(path), name_(input_name(path)) {
   descriptor_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (descriptor_ < 0) throw Error(path, "cannot open: " + errno_text(errno));
+  if (descriptor_ < 0) throw Error(name_, "cannot open: " + errno_text(errno));
   struct stat status {};
   if (::fstat(descriptor_, &status) != 0) {
     const int error_number = errno;
     ::close(descriptor_);
-    throw Error(path, "cannot get file size: " + errno_text(error_number));
+    throw Error(name_, "cannot get file size: " + errno_text(error_number));
   }
   if (S_ISDIR(status.st_mode)) {
     ::close(descriptor_);
-    throw Error(path, std::string("is a directory, expected ") + kind);
+    throw Error(name_, std::string("is a directory, expected ") + kind);
   }
   is_stream_ = !S_ISREG(status.st_mode);
   size_bytes_ = is_stream_ ? 0 : static_cast<std::uint64_t>(status.st_size);
@@ -35,16 +36,19 @@ RawFile::~RawFile() {
   if (descriptor_ >= 0) ::close(descriptor_);
 }
 
-void RawFile::expect_size(std::uint64_t expected_bytes, const std::string& what) const {
-  if (!is_stream_ && size_bytes_ != expected_bytes) {
-    throw Error(path_, raw_size_problem(size_bytes_, expected_bytes, what));
+void RawFile::expect_size(std::uint64_t expected_bytes, const std::string& what) {
+  if (is_stream_) {
+    stream_expected_ = " bytes, expected " + std::to_string(expected_bytes) + " for " + what;
+    return;
   }
+  if (size_bytes_ != expected_bytes)
+    throw Error(name_, raw_size_problem(size_bytes_, expected_bytes, what));
 }
 
 std::size_t RawFile::read_some(std::uint64_t offset, void* bytes, std::size_t min_count,
                                std::size_t max_count) {
   if (is_stream_ && offset != stream_position_)
-    throw Error(path_, "cannot seek in a pipe: reading byte " + std::to_string(offset) +
+    throw Error(name_, "cannot seek in a pipe: reading byte " + std::to_string(offset) +
                            " after byte " + std::to_string(stream_position_));
   auto* destination = static_cast<char*>(bytes);
   std::size_t done = 0;
@@ -55,12 +59,14 @@ std::size_t RawFile::read_some(std::uint64_t offset, void* bytes, std::size_t mi
                                    : ::pread(descriptor_, destination + done, max_count - done,
                                              static_cast<off_t>(offset + done));
     if (got < 0) {
-      if (errno == EINTR && reads_cancelled()) throw Error(path_, "reading stopped");
+      if (errno == EINTR && reads_cancelled()) throw Error(name_, "reading stopped");
       if (errno == EINTR) continue;
-      throw Error(path_, "read failed: " + errno_text(errno));
+      throw Error(name_, "read failed: " + errno_text(errno));
     }
+    if (got == 0 && is_stream_ && !stream_expected_.empty())
+      throw Error(name_, "ended after " + std::to_string(offset + done) + stream_expected_);
     if (got == 0) {
-      throw Error(path_, "file ended at byte " + std::to_string(offset + done) + ", expected " +
+      throw Error(name_, "file ended at byte " + std::to_string(offset + done) + ", expected " +
                              std::to_string(offset + min_count) + " bytes");
     }
     done += static_cast<std::size_t>(got);
@@ -76,9 +82,9 @@ void RawFile::expect_end(std::uint64_t expected_bytes, const std::string& what) 
   do {
     got = ::read(descriptor_, &extra, 1);
   } while (got < 0 && errno == EINTR && !reads_cancelled());
-  if (got < 0) throw Error(path_, "read failed: " + errno_text(errno));
+  if (got < 0) throw Error(name_, "read failed: " + errno_text(errno));
   if (got > 0)
-    throw Error(path_, "holds more than the " + std::to_string(expected_bytes) +
+    throw Error(name_, "holds more than the " + std::to_string(expected_bytes) +
                            " bytes expected for " + what);
 }
 
@@ -94,7 +100,7 @@ ChunkedSliceReader::ChunkedSliceReader(RawFile& file, std::uint64_t offset, std:
 
 unsigned char* ChunkedSliceReader::next() {
   // Allocated with the first slice, not by the constructor: a run's memory plan may refuse it.
-  if (buffer_.empty()) resize_buffer(buffer_, buffer_bytes_, file_.path(), "slices");
+  if (buffer_.empty()) resize_buffer(buffer_, buffer_bytes_, file_.name(), "slices");
   if (end_ - begin_ < slice_bytes_) {
     // A stream may have delivered part of a slice: it moves to the front, and the read
     // completes it.

@@ -10,7 +10,7 @@
 namespace mvox {
 
 // Owns an open file descriptor (closed on destruction). Every error is an mvox::Error naming
-// the file.
+// the file (name()).
 //
 // A file that is not a regular file (a pipe, a FIFO, /dev/stdin) is a stream: its size is not
 // known in advance, so expect_size() accepts it, its bytes must be read in order, and
@@ -24,14 +24,17 @@ class RawFile {
   RawFile& operator=(const RawFile&) = delete;
 
   const std::string& path() const { return path_; }
+  // How messages name it: the path, or "standard input" for /dev/stdin (input_name).
+  const std::string& name() const { return name_; }
   std::uint64_t size_bytes() const { return size_bytes_; }
 
   // True for pipes and FIFOs: sizes are checked as the bytes arrive.
   bool is_stream() const { return is_stream_; }
 
   // Throws unless the file holds exactly `expected_bytes`; `what` says what they are for,
-  // e.g. "one 256x256 u16be slice". A stream passes (see expect_end).
-  void expect_size(std::uint64_t expected_bytes, const std::string& what) const;
+  // e.g. "one 256x256 u16be slice". A stream passes (see expect_end), and a read that finds it
+  // ended early then names the size expected and what for, as a file's size is named here.
+  void expect_size(std::uint64_t expected_bytes, const std::string& what);
 
   // Reads exactly `byte_count` bytes starting at `offset` into `bytes`. On a stream `offset`
   // must be where the previous read ended.
@@ -52,10 +55,12 @@ class RawFile {
 
  private:
   std::string path_;
+  std::string name_;
   int descriptor_ = -1;
   std::uint64_t size_bytes_ = 0;
   bool is_stream_ = false;
   std::uint64_t stream_position_ = 0;  // bytes read so far from a stream
+  std::string stream_expected_;        // " bytes, expected N for WHAT", from expect_size
 };
 
 // Consecutive slices of `slice_bytes` each, from byte `offset` of a file on, read a chunk of

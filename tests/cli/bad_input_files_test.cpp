@@ -20,6 +20,7 @@
 #include "command_runner.h"
 #include "file_io.h"
 #include "mvox_process.h"
+#include "refusal.h"
 
 namespace fs = std::filesystem;
 
@@ -191,7 +192,7 @@ TEST_F(BadInput, RawVolumeFromAPipeOfTheWrongLength) {
   // A pipe's length is only known as it arrives: short fails at the slice where it ends, long
   // after the last slice.
   for (const auto& [spec, problem] : std::vector<std::pair<std::string, std::string>>{
-           {"12x10x9:u8", "file ended at byte 960, expected 1080 bytes"},
+           {"12x10x9:u8", "ended after 960 bytes, expected 1080 for a 12x10x9 u8 volume"},
            {"12x10x7:u8", "holds more than the 840 bytes expected for a 12x10x7 u8 volume"}}) {
     std::thread feeder([&] {
       FifoWriter fifo(dir_ / "volume.raw");
@@ -199,6 +200,21 @@ TEST_F(BadInput, RawVolumeFromAPipeOfTheWrongLength) {
     });
     expect_refused("extract volume.raw --raw " + spec + " -t 1" + kOutputs, "volume.raw", problem);
     feeder.join();
+  }
+}
+
+TEST_F(BadInput, AVolumeOnStandardInputIsNamedSo) {
+  // A user who piped the volume in typed "-" (or /dev/stdin): the message names what they gave,
+  // not the device mvox opened for it.
+  write_bytes(dir_ / "volume.raw", std::string(960, '\x80'));
+  for (const std::string input : {"-", "/dev/stdin"}) {
+    test::expect_refused(
+        dir_.path(), "extract " + input + " --raw 12x10x9:u8 -t 1" + kOutputs, "standard input",
+        "ended after 960 bytes, expected 1080 for a 12x10x9 u8 volume", 1, "cat volume.raw |");
+    // Redirected from a file, standard input has a size, checked before anything is read.
+    test::expect_refused(
+        dir_.path(), "extract " + input + " --raw 12x10x9:u8 -t 1" + kOutputs + " < volume.raw",
+        "standard input", "file is 960 bytes, expected 1080 for a 12x10x9 u8 volume", 1);
   }
 }
 

@@ -240,7 +240,9 @@ TEST(RawVolume, ManySmallSlicesAreReadAChunkAtATimeInFixedMemory) {
 // The kernel copies file data into memory that is not 64-byte aligned several times slower
 // (src/read/read_buffer.h), so a slice read alone, in a volume file or in a file of its own,
 // must start on a page.
-bool on_a_page(const void* pointer) { return reinterpret_cast<std::uintptr_t>(pointer) % 4096 == 0; }
+bool on_a_page(const void* pointer) {
+  return reinterpret_cast<std::uintptr_t>(pointer) % 4096 == 0;
+}
 
 TEST(RawVolume, SlicesReadAloneStartOnAPage) {
   ScratchDirectory dir;
@@ -304,7 +306,7 @@ TEST(RawVolume, APipeThatEndsInsideASliceFailsAtThatSlice) {
     EXPECT_TRUE(source.next_slice(&view));
     EXPECT_TRUE(source.next_slice(&view));
     EXPECT_CONTAINS(error_of([&] { source.next_slice(&view); }),
-                    dir / "v.raw: file ended at byte 80, expected 105 bytes");
+                    dir / "v.raw: ended after 80 bytes, expected 140 for a 7x5x4 u8 volume");
   }
   writer.join();
 }

@@ -35,12 +35,12 @@ NiftiHeader read_header(RawFile& file, bool gzipped) {
       inflate.read(bytes + kNiftiMinBytes, kNifti2Bytes - kNiftiMinBytes, kNifti2Bytes,
                    "a NIfTI-2 header");
     return parse_nifti_header(bytes, size == kNifti2Bytes ? kNifti2Bytes : kNiftiMinBytes,
-                              file.path());
+                              file.name());
   }
   const std::size_t available =
       static_cast<std::size_t>(std::min<std::uint64_t>(file.size_bytes(), kNifti2Bytes));
   file.read_at(0, bytes, available);
-  return parse_nifti_header(bytes, available, file.path());
+  return parse_nifti_header(bytes, available, file.name());
 }
 
 // The .img beside a .hdr: the same name with .img (or .img.gz), in the case the .hdr's

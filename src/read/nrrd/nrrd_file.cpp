@@ -22,7 +22,7 @@ std::uint64_t skip_lines(RawFile& file, std::uint64_t offset, std::uint64_t line
   std::uint64_t lines = 0;
   while (lines < line_count) {
     if (position >= file.size_bytes()) {
-      throw Error(file.path(), "line skip " + std::to_string(line_count) + ": the file has only " +
+      throw Error(file.name(), "line skip " + std::to_string(line_count) + ": the file has only " +
                                    std::to_string(lines) + " lines after byte " +
                                    std::to_string(offset));
     }

@@ -51,7 +51,7 @@ bool RawSlicesSource::next_slice(SliceView* slice) {
   RawFile file(files()[next_index_]);
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
-  if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file.path(), "a slice");
+  if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file.name(), "a slice");
   file.read_at(0, buffer_.data(), buffer_.size());
   *slice = native_slice_view(buffer_.data(), format_);
   ++next_index_;
