@@ -270,6 +270,10 @@ tour "raw volume too long" "head -c 960 /dev/zero > volume.raw" \
   "mvox extract volume.raw --raw 12x10x7:u8 -t 1 $outputs"
 tour "raw volume from a pipe, too short" "" \
   "head -c 960 /dev/zero | mvox extract - --raw 12x10x9:u8 -t 1 $outputs"
+tour "a pipe without --raw" "" \
+  "head -c 960 /dev/zero | mvox extract - -t 1 $outputs"
+tour "a FIFO without --raw, with no writer (mvox must not wait for one)" "mkfifo scan.nii" \
+  "mvox extract scan.nii -t 1 $outputs"
 tour "raw slice of the wrong size" \
   "mkdir raw; for k in 0 1 2; do head -c 120 /dev/zero > raw/s.\$k; done; head -c 119 /dev/zero > raw/s.1" \
   "mvox extract raw --raw 12x10:u8 -t 1 $outputs"

@@ -1,5 +1,7 @@
 #include "read/input_format.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <string>
@@ -9,6 +11,7 @@
 #include "read/dicom/dicom_input.h"
 #include "read/file_names.h"
 #include "read/image_stack/image_stack_input.h"
+#include "read/input_name.h"
 #include "read/metaimage/metaimage_file.h"
 #include "read/nifti/nifti_file.h"
 #include "read/nrrd/nrrd_file.h"
@@ -39,9 +42,41 @@ const std::vector<const InputFormat*>& input_formats() {
   return formats;
 }
 
+namespace {
+
+// What an input that is neither a file nor a directory is, for the refusal below; null for a
+// file, a directory, or a path that does not exist (the formats name that). stat() follows
+// links and, unlike open(), does not wait for a FIFO's writer.
+const char* stream_kind(const std::string& input) {
+  struct stat status {};
+  if (::stat(input.c_str(), &status) != 0) return nullptr;
+  // Standard input is "a pipe" to the user; a name in a directory, a FIFO.
+  if (S_ISFIFO(status.st_mode)) return input_name(input) == input ? "a FIFO" : "a pipe";
+  if (S_ISCHR(status.st_mode) || S_ISBLK(status.st_mode)) return "a device";
+  if (S_ISSOCK(status.st_mode)) return "a socket";
+  return nullptr;
+}
+
+// A pipe (standard input, a FIFO) can be read once, in order, and the formats are told apart by
+// opening each input and reading its first bytes: what that read took was missing for the
+// reader that followed ("not an image"), or a FIFO was opened a second time and mvox waited
+// for a writer that had gone, for ever. Only a raw volume, whose layout --raw gives, is read
+// from one; anything else is refused here, before any input is opened.
+void refuse_streams_without_raw(const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs)
+    if (const char* kind = stream_kind(input))
+      throw UsageError(input_name(input),
+                       std::string("is ") + kind +
+                           ", which mvox reads once, in order, as a raw volume: give --raw "
+                           "WxHxD:TYPE, or save it to a file to read another format");
+}
+
+}  // namespace
+
 OpenedInput open_input(const std::vector<std::string>& inputs, const InputOptions& options) {
   if (options.dicom.force && options.raw)
     throw UsageError("--dicom", "cannot be combined with --raw");
+  if (!options.raw) refuse_streams_without_raw(inputs);
   const InputRequest request(inputs, options);
   for (const InputFormat* format : input_formats()) {
     if (!format->claims(request)) continue;

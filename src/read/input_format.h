@@ -67,7 +67,8 @@ const std::vector<const InputFormat*>& input_formats();
 
 // Opens `inputs` with the first format that claims them. Throws UsageError for options that do
 // not fit the input (--series for input that is not DICOM, --raw with a headered file, --dicom
-// with --raw), and mvox::Error from the reader.
+// with --raw, a pipe or device without --raw: only a raw volume is read from one), and
+// mvox::Error from the reader.
 OpenedInput open_input(const std::vector<std::string>& inputs, const InputOptions& options);
 
 // open_input's source alone, for callers that need no file list (tests, benchmarks).

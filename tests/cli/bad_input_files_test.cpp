@@ -218,6 +218,27 @@ TEST_F(BadInput, AVolumeOnStandardInputIsNamedSo) {
   }
 }
 
+// Formats are told apart by opening an input and reading its first bytes: a pipe gave those
+// bytes to the first look, and a FIFO opened a second time waited for a writer that never came.
+// Without --raw, a pipe, FIFO or device is refused before it is opened. (timeout: a guard, so
+// that a regression fails instead of hanging the suite; no writer ever opens these FIFOs.)
+TEST_F(BadInput, APipeOrDeviceWithoutRawIsRefusedBeforeItIsOpened) {
+  const std::string kProblem =
+      ", which mvox reads once, in order, as a raw volume: give --raw WxHxD:TYPE, or save it to "
+      "a file to read another format";
+  for (const std::string name : {"scan.png", "scan.nii", "scan.dcm", "scan.tif", "scan"}) {
+    ASSERT_EQ(::mkfifo((dir_ / name).c_str(), 0600), 0);
+    test::expect_refused(dir_.path(), "extract " + name + " -t 1" + kOutputs, name,
+                         "is a FIFO" + kProblem, 2, "timeout 30");
+    fs::remove(dir_ / name);
+  }
+  write_bytes(dir_ / "volume.raw", std::string(960, '\x80'));
+  test::expect_refused(dir_.path(), "extract - -t 1" + kOutputs, "standard input",
+                       "is a pipe" + kProblem, 2, "cat volume.raw | timeout 30");
+  test::expect_refused(dir_.path(), "extract /dev/zero -t 1" + kOutputs, "/dev/zero",
+                       "is a device" + kProblem, 2, "timeout 30");
+}
+
 TEST_F(BadInput, RawVolumeThatIsADirectory) {
   expect_refused("extract stack --raw 12x10x8:u8 -t 1" + kOutputs, "stack",
                  "is a directory; --raw 12x10x8 u8 reads one volume file");
