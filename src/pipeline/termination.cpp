@@ -22,7 +22,13 @@
 namespace mvox {
 namespace {
 
-constexpr int kInterruptSignals[] = {SIGINT, SIGTERM, SIGHUP};
+// Every signal whose default action ends the process and that comes from outside: SIGQUIT is the
+// terminal's quit key; SIGUSR1 and SIGXCPU are what batch schedulers send before a time limit;
+// SIGALRM what some tools send. Left alone, they ended mvox with its temporaries on disk. Not
+// SIGUSR2, which mvox sends its own reading threads to end a blocked read (read_cancellation.h);
+// not SIGPROF or SIGVTALRM, which profilers use; not SIGABRT or SIGTRAP, which a thread raises on
+// itself.
+constexpr int kInterruptSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGALRM, SIGXCPU};
 
 struct OutputRecord {
   int id = 0;
@@ -51,6 +57,10 @@ const char* signal_name(int signal_number) {
     case SIGINT: return "SIGINT";
     case SIGTERM: return "SIGTERM";
     case SIGHUP: return "SIGHUP";
+    case SIGQUIT: return "SIGQUIT";
+    case SIGUSR1: return "SIGUSR1";
+    case SIGALRM: return "SIGALRM";
+    case SIGXCPU: return "SIGXCPU";
     default: return "a signal";
   }
 }

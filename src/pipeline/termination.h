@@ -1,9 +1,10 @@
 #pragma once
-// How mvox ends when it is stopped from outside: by SIGINT, SIGTERM or SIGHUP (an interrupt), or
+// How mvox ends when it is stopped from outside: by SIGINT, SIGTERM, SIGHUP or another signal
+// that would end it (SIGQUIT, SIGUSR1, SIGALRM, SIGXCPU: an interrupt), or
 // by a reader that closes its end of an output pipe. Either way no output file and no temporary
 // is left behind, and a previous file at an output's path stays as it was.
 //
-// INTERRUPTS. install_termination_handling() blocks the three signals in the calling thread, so
+// INTERRUPTS. install_termination_handling() blocks these signals in the calling thread, so
 // in every thread started after it (they inherit the mask), and waits for them with sigwait() on
 // a thread of its own. When one comes, that thread deletes every registered temporary, prints
 // one line ("mvox: error: mesh.ply: interrupted by SIGINT") and ends the process with

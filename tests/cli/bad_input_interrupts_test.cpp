@@ -74,6 +74,9 @@ const char* signal_name(int signal_number) {
     case SIGINT: return "SIGINT";
     case SIGTERM: return "SIGTERM";
     case SIGHUP: return "SIGHUP";
+    case SIGQUIT: return "SIGQUIT";
+    case SIGUSR1: return "SIGUSR1";
+    case SIGXCPU: return "SIGXCPU";
   }
   return "?";
 }
@@ -104,7 +107,9 @@ TEST_P(Interrupt, MidRunLeavesNothingAndExitsWith128PlusTheSignal) {
   test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 
-INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt, ::testing::Values(SIGINT, SIGTERM, SIGHUP),
+// SIGQUIT and the schedulers' SIGUSR1 and SIGXCPU ended mvox with its temporaries on disk.
+INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt,
+                         ::testing::Values(SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGXCPU),
                          [](const ::testing::TestParamInfo<int>& info) {
                            return std::string(signal_name(info.param));
                          });
