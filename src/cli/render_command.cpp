@@ -10,6 +10,7 @@
 #include "picture/mesh_render.h"
 #include "picture/picture_frame.h"
 #include "pipeline/mesh_job.h"
+#include "pipeline/termination.h"
 #include "read/ply/ply_reader.h"
 #include "write/output_file.h"
 #include "write/output_targets.h"
@@ -29,8 +30,9 @@ struct RenderArguments {
 void run_render(const RenderArguments& args) {
   PictureChoice choice = args.picture;
   if (args.output.empty() == choice.image.empty())
-    throw Error("mvox render", args.output.empty() ? "name the picture with -o picture.png"
-                                                   : "give the picture once, with -o or --image");
+    throw UsageError("mvox render", args.output.empty()
+                                        ? "name the picture with -o picture.png"
+                                        : "give the picture once, with -o or --image");
   if (choice.image.empty()) choice.image = args.output;
   const PictureOptions options = choice.options();
   check_image_extension(options.image_path);
@@ -39,6 +41,7 @@ void run_render(const RenderArguments& args) {
       {args.mesh}, InputFiles::not_yet_opened);
   OutputFile file(options.image_path);  // fails now, not after reading a large mesh
 
+  set_interrupt_subject(args.mesh);  // an interrupt, or memory running out, names the mesh
   PlyMesh mesh = read_ply(args.mesh);
   glm::vec3 box_min, box_max;
   if (!face_bounds(mesh, &box_min, &box_max)) throw Error(args.mesh, "no faces to render");

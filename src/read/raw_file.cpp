@@ -15,8 +15,11 @@
 
 namespace mvox {
 
-RawFile::RawFile(const std::string& path, const char* kind) : path_(path), name_(input_name(path)) {
-  descriptor_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+RawFile::RawFile(const std::string& path, const char* kind, const RawFile* same_file_as)
+    : path_(path), name_(input_name(path)) {
+  // Opening a FIFO waits for its writer: wanted for a volume piped in, never when the file is
+  // opened again for a slab (it was a file then, and a FIFO now has no writer coming).
+  descriptor_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (same_file_as ? O_NONBLOCK : 0));
   if (descriptor_ < 0) throw Error(name_, "cannot open: " + errno_text(errno));
   struct stat status {};
   if (::fstat(descriptor_, &status) != 0) {
@@ -24,6 +27,13 @@ RawFile::RawFile(const std::string& path, const char* kind) : path_(path), name_
     ::close(descriptor_);
     throw Error(name_, "cannot get file size: " + errno_text(error_number));
   }
+  device_ = static_cast<std::uint64_t>(status.st_dev);
+  inode_ = static_cast<std::uint64_t>(status.st_ino);
+  if (same_file_as && (device_ != same_file_as->device_ || inode_ != same_file_as->inode_)) {
+    ::close(descriptor_);
+    throw Error(name_, "was replaced by another file while mvox read it; nothing was written");
+  }
+  if (same_file_as) ::fcntl(descriptor_, F_SETFL, ::fcntl(descriptor_, F_GETFL) & ~O_NONBLOCK);
   if (S_ISDIR(status.st_mode)) {
     ::close(descriptor_);
     throw Error(name_, std::string("is a directory, expected ") + kind);

@@ -17,8 +17,12 @@ namespace mvox {
 // expect_end() checks at the end that nothing follows. Opening a FIFO waits for its writer.
 class RawFile {
  public:
-  // `kind` names what the file should be, for the refusal of a directory.
-  explicit RawFile(const std::string& path, const char* kind = "a raw sample file");
+  // `kind` names what the file should be, for the refusal of a directory. `same_file_as`: the
+  // file opened again, by the same path, for a reader of its own (a slab's): refused unless the
+  // path still names that file, so that a run never mixes two files, nor waits for the writer
+  // of a FIFO put in the file's place.
+  explicit RawFile(const std::string& path, const char* kind = "a raw sample file",
+                   const RawFile* same_file_as = nullptr);
   ~RawFile();
   RawFile(const RawFile&) = delete;
   RawFile& operator=(const RawFile&) = delete;
@@ -57,6 +61,7 @@ class RawFile {
   std::string path_;
   std::string name_;
   int descriptor_ = -1;
+  std::uint64_t device_ = 0, inode_ = 0;  // which file it is (fstat)
   std::uint64_t size_bytes_ = 0;
   bool is_stream_ = false;
   std::uint64_t stream_position_ = 0;  // bytes read so far from a stream

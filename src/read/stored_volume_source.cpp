@@ -1,9 +1,9 @@
 #include "read/stored_volume_source.h"
 
 #include <algorithm>
-#include <limits>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 #include <utility>
 
@@ -77,8 +77,12 @@ std::uint64_t slice_buffer_bytes(const StoredVolume& volume) {
 
 }  // namespace
 
-StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data)
-    : volume_(volume), data_(std::move(data)), file_(data_.path), end_index_(volume.info.depth) {
+StoredVolumeSource::StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data,
+                                       const RawFile* same_file_as)
+    : volume_(volume),
+      data_(std::move(data)),
+      file_(data_.path, "a raw sample file", same_file_as),
+      end_index_(volume.info.depth) {
   if (volume_.compression == Compression::none) {
     check_raw_size();
   } else {
@@ -165,14 +169,13 @@ void StoredVolumeSource::check_compressed_size() {
 std::unique_ptr<SliceSource> StoredVolumeSource::open_range(std::uint32_t first,
                                                             std::uint32_t end) const {
   // Opens the data file again and checks its size again, as a reader of its own.
-  auto range = std::make_unique<StoredVolumeSource>(volume_, data_);
+  auto range = std::make_unique<StoredVolumeSource>(volume_, data_, &file_);
   range->next_index_ = first;
   range->end_index_ = end;
   return range;
 }
 
-void StoredVolumeSource::check_exact_in_float(const unsigned char* bytes,
-                                              std::size_t count) const {
+void StoredVolumeSource::check_exact_in_float(const unsigned char* bytes, std::size_t count) const {
   constexpr std::int64_t kExact = std::int64_t{1} << 24;  // floats hold every integer up to it
   for (std::size_t i = 0; i < count; ++i) {
     std::int64_t value;
@@ -196,8 +199,7 @@ void StoredVolumeSource::check_exact_in_float(const unsigned char* bytes,
 bool StoredVolumeSource::next_slice(SliceView* slice) {
   if (next_index_ >= end_index_) return false;
   const std::size_t stored_bytes = static_cast<std::size_t>(stored_slice_bytes(volume_));
-  if (buffer_.empty())
-    resize_buffer(buffer_, slice_buffer_bytes(volume_), data_.path, "a slice");
+  if (buffer_.empty()) resize_buffer(buffer_, slice_buffer_bytes(volume_), data_.path, "a slice");
   if (inflate_) {
     inflate_->read(buffer_.data(), stored_bytes,
                    data_.skip_decompressed + stored_volume_bytes(volume_), volume_text());

@@ -49,7 +49,10 @@ struct StoredVolumeData {
 // read their own slices; compressed data only in order.
 class StoredVolumeSource : public SliceSource, public RangeReadable, public CopiedSlices {
  public:
-  StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data);
+  // `same_file_as`: for open_range, the whole source's data file, which the path must still
+  // name (RawFile).
+  StoredVolumeSource(const StoredVolume& volume, StoredVolumeData data,
+                     const RawFile* same_file_as = nullptr);
 
   const VolumeInfo& info() const override { return volume_.info; }
   bool next_slice(SliceView* slice) override;

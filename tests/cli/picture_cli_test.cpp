@@ -324,7 +324,7 @@ TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
   expect_one_line_error(run_mvox("extract stack -t 128 --image no/dir/a.png", dir.path()),
                         "no/dir/a.png");
   expect_one_line_error(run_mvox("render missing.ply -o a.png", dir.path()), "missing.ply");
-  expect_one_line_error(run_mvox("render missing.ply", dir.path()), "-o");
+  expect_one_line_error(run_mvox("render missing.ply", dir.path()), "-o", 2);  // a usage error
   std::ofstream(dir / "broken.ply") << "ply\nformat ascii 1.0\nelement vertex 1\n";
   expect_one_line_error(run_mvox("render broken.ply -o a.png", dir.path()), "broken.ply");
   EXPECT_EQ(dir.listing(), "broken.ply stack ");

@@ -4,6 +4,7 @@
 #include "read/image_stack/image_stack_source.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -135,12 +136,26 @@ TEST(ImageStack, RefusesSliceOfAnotherSize) {
 TEST(ImageStack, ASliceRemovedAfterListingIsNamedAsMissing) {
   ScratchDirectory dir;
   for (int i = 1; i <= 3; ++i)
-    ASSERT_TRUE(cv::imwrite(dir / ("s" + std::to_string(i) + ".png"),
-                            cv::Mat(5, 7, CV_8U, cv::Scalar(i))));
+    ASSERT_TRUE(
+        cv::imwrite(dir / ("s" + std::to_string(i) + ".png"), cv::Mat(5, 7, CV_8U, cv::Scalar(i))));
   std::unique_ptr<SliceSource> source = open_slice_source({dir.str()}, std::nullopt);
   fs::remove(dir / "s2.png");
   const std::string message = error_of([&] { read_all<std::uint8_t>(*source); });
   EXPECT_CONTAINS(message, dir / "s2.png: no such file");
+}
+
+// Slices are listed as files and opened later, each at its turn: one replaced by a FIFO meanwhile
+// kept the run waiting in open() for a writer that never came. It is refused instead.
+TEST(ImageStack, ASliceReplacedByAFifoAfterListingIsRefusedWithoutWaiting) {
+  ScratchDirectory dir;
+  for (int i = 1; i <= 3; ++i)
+    ASSERT_TRUE(
+        cv::imwrite(dir / ("s" + std::to_string(i) + ".png"), cv::Mat(5, 7, CV_8U, cv::Scalar(i))));
+  std::unique_ptr<SliceSource> source = open_slice_source({dir.str()}, std::nullopt);
+  fs::remove(dir / "s2.png");
+  ASSERT_EQ(::mkfifo((dir / "s2.png").c_str(), 0600), 0);
+  const std::string message = error_of([&] { read_all<std::uint8_t>(*source); });
+  EXPECT_CONTAINS(message, dir / "s2.png: is not a regular file");
 }
 
 TEST(ImageStack, RefusesSliceOfAnotherBitDepth) {

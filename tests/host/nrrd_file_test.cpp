@@ -5,6 +5,7 @@
 #include "read/nrrd/nrrd_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -20,6 +21,7 @@
 #include "mesh_compare.h"
 #include "mesh_topology.h"
 #include "read/input_format.h"
+#include "read/range_readable.h"
 #include "read/raw/raw_format.h"
 #include "read/raw/raw_volume_source.h"
 #include "volume_files.h"
@@ -84,6 +86,24 @@ TEST(NrrdVolume, EveryTypeInBothByteOrdersRoundTrips) {
     expect_nrrd_round_trip<std::int16_t, std::int16_t>("Signed Short Int", SampleType::i16, order);
     expect_nrrd_round_trip<float, float>("float", SampleType::f32, order);
   }
+}
+
+// A slab's reader opens the data file again (StoredVolumeSource::open_range): a data file
+// replaced since, by another file or a FIFO, is refused, not mixed in or waited for.
+TEST(NrrdVolume, ARangeOfADataFileReplacedSinceItWasOpenedIsRefused) {
+  ScratchDirectory dir;
+  write_file(dir / "v.nhdr",
+             "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: "
+             "v.raw\n");
+  write_file(dir / "v.raw", std::string(8, '\x10'));
+  std::unique_ptr<SliceSource> source = open_slice_source({dir / "v.nhdr"}, std::nullopt);
+  const auto* ranges = dynamic_cast<const RangeReadable*>(source.get());
+  ASSERT_NE(ranges, nullptr);
+  EXPECT_NO_THROW(ranges->open_range(0, 2));
+  fs::remove(dir / "v.raw");
+  ASSERT_EQ(::mkfifo((dir / "v.raw").c_str(), 0600), 0);
+  EXPECT_CONTAINS(error_of([&] { ranges->open_range(1, 2); }),
+                  dir / "v.raw: was replaced by another file while mvox read it");
 }
 
 TEST(NrrdVolume, SamplesAndMeshEqualTheRawVolumeReaderOnTheSameBytes) {

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -17,11 +18,13 @@
 
 #include "command_runner.h"
 #include "error.h"
+#include "error_capture.h"
 #include "file_io.h"
 
 namespace mvox {
 namespace {
 
+using test::error_of;
 using test::ScratchDirectory;
 using test::write_bytes;
 
@@ -373,6 +376,33 @@ TEST(PlyReader, FileErrorsNameThePath) {
   } catch (const Error& error) {
     EXPECT_EQ(error.subject(), truncated);
   }
+}
+
+// `mvox render /dev/zero` read the endless device into memory until the system ran out, and a
+// 100 GiB file was allocated whole before its first bytes were looked at. The header is checked
+// first, and a binary body is read only as far as its header's counts allow.
+TEST(PlyReader, IsRefusedFromItsStartWithoutReadingMoreThanItsHeaderAllows) {
+  EXPECT_CONTAINS(error_of([] { read_ply("/dev/zero"); }),
+                  "/dev/zero: not a PLY file: the first line is not \"ply\"");
+  ScratchDirectory dir;
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  // 3 vertices of 12 bytes and a face of at most 1 + 255 x 4 bytes after the header.
+  const std::uint64_t most = header.size() + 3 * 12 + 1 + 255 * 4;
+  const std::string sparse = dir.file("sparse.ply");
+  write_bytes(sparse, header);
+  std::filesystem::resize_file(sparse, std::uint64_t{1} << 30);  // a gigabyte of holes
+  EXPECT_CONTAINS(error_of([&] { read_ply(sparse); }),
+                  sparse + ": holds more than its header describes (at most " +
+                      std::to_string(most) + " bytes)");
+  // A file at that limit is read, and refused for what its body holds; one byte more is not read.
+  const std::string at_most = dir.file("at_most.ply");
+  write_bytes(at_most, header + std::string(most - header.size(), '\0'));
+  EXPECT_CONTAINS(error_of([&] { read_ply(at_most); }), "face 0: face with 0 vertices");
+  write_bytes(at_most, header + std::string(most - header.size() + 1, '\0'));
+  EXPECT_CONTAINS(error_of([&] { read_ply(at_most); }), "holds more than its header describes");
 }
 
 }  // namespace

@@ -314,6 +314,30 @@ TEST(RawVolume, APipeThatEndsInsideASliceFailsAtThatSlice) {
 // ---------------------------------------------------------------------------------------------
 // Real data, when ../shared/datasets is present (never in the repository).
 
+// Each slab worker opens the volume again by its path (a reader of its own, for the kernel's
+// read-ahead). Replaced meanwhile, by another file or by a FIFO, the path is refused: with two
+// threads a run mixed slabs of two files, or waited in open() for the FIFO's writer for ever.
+TEST(RawVolume, ARangeOfAVolumeReplacedSinceItWasOpenedIsRefused) {
+  ScratchDirectory dir;
+  const RawFormat format = parse_raw_format("7x5x4:u8");
+  write_bytes(dir / "v.raw", std::string(140, '\x10'));
+  write_bytes(dir / "other.raw", std::string(140, '\x20'));
+  RawVolumeSource source(dir / "v.raw", format);
+  auto range_reads = [&] {
+    std::unique_ptr<SliceSource> range = source.open_range(2, 4);
+    SliceView view;
+    range->next_slice(&view);
+  };
+  EXPECT_NO_THROW(range_reads());  // the same file: read as before
+  fs::rename(dir / "other.raw", dir / "v.raw");
+  EXPECT_CONTAINS(error_of(range_reads),
+                  dir / "v.raw: was replaced by another file while mvox read it");
+  fs::remove(dir / "v.raw");
+  ASSERT_EQ(::mkfifo((dir / "v.raw").c_str(), 0600), 0);
+  EXPECT_CONTAINS(error_of(range_reads),
+                  dir / "v.raw: was replaced by another file while mvox read it");
+}
+
 TEST(SharedDatasets, CtheadReadsAsU16BigEndian) {
   const std::string folder = std::string(MVOX_SHARED_DATASETS) + "/cthead";
   if (!fs::is_directory(folder)) GTEST_SKIP() << folder << " is absent (optional real data)";

@@ -182,7 +182,7 @@ std::optional<ImageHeader> parse_image_header(const unsigned char* bytes, std::s
 
 std::optional<ImageHeader> read_image_header(const std::string& path) {
   ReadBuffer bytes;
-  read_file_bytes(path, bytes, kMaxHeaderBytes);
+  read_file_bytes(path, bytes, kMaxHeaderBytes, FileKinds::only_regular);
   return parse_image_header(bytes.data(), bytes.size());
 }
 

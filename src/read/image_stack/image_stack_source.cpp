@@ -68,7 +68,9 @@ void check_header(const std::string& path, const ImageHeader& header, const Volu
 void read_checked_file(const std::string& path, ReadBuffer& bytes, const VolumeInfo& info,
                        const std::string& first) {
   try {
-    read_file_bytes(path, bytes);  // reused from slice to slice, so it stops growing
+    // Reused from slice to slice, so it stops growing.
+    read_file_bytes(path, bytes, std::numeric_limits<std::uint64_t>::max(),
+                    FileKinds::only_regular);
   } catch (const Error&) {
     // Asked only on failure: a stat before every slice cost one more system call a slice.
     std::error_code error;
@@ -104,7 +106,7 @@ ImageStackSource::ImageStackSource(std::vector<std::string> paths)
   if (header && header->format == ImageFormat::png && !uses_opencv_) {
     // A PNG that is not plain grey (grey with alpha or a transparent value) is OpenCV's to read.
     ReadBuffer start;
-    read_file_bytes(first, start, 1 << 20);
+    read_file_bytes(first, start, 1 << 20, FileKinds::only_regular);
     if (!is_plain_grey_png(start.data(), start.size())) uses_opencv_ = true;
   }
   if (uses_opencv_) load_image_codecs(first);

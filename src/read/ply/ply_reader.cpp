@@ -103,6 +103,49 @@ std::string printable(std::string_view text) {
 
 std::string quoted(std::string_view text) { return "\"" + printable(text) + "\""; }
 
+// The largest value a list's count can have.
+std::uint64_t most_list_count(ScalarType count_type) {
+  switch (count_type) {
+    case ScalarType::int8: return 127;
+    case ScalarType::uint8: return 255;
+    case ScalarType::int16: return 32767;
+    case ScalarType::uint16: return 65535;
+    case ScalarType::int32: return 2147483647;
+    case ScalarType::uint32: return 4294967295;
+    case ScalarType::float32:
+    case ScalarType::float64: break;
+  }
+  return std::numeric_limits<std::uint64_t>::max();
+}
+
+// The most bytes a file with this header can hold: for a binary body, every element's count
+// times its largest record (lists at their count type's largest count), saturating; for ASCII,
+// whose numbers may be spaced at will, no limit.
+std::uint64_t most_file_bytes(const Header& header) {
+  constexpr std::uint64_t kNoLimit = std::numeric_limits<std::uint64_t>::max();
+  if (header.format == Format::ascii) return kNoLimit;
+  const auto saturating_add = [](std::uint64_t a, std::uint64_t b) {
+    return a > kNoLimit - b ? kNoLimit : a + b;
+  };
+  const auto saturating_multiply = [](std::uint64_t a, std::uint64_t b) {
+    return b != 0 && a > kNoLimit / b ? kNoLimit : a * b;
+  };
+  std::uint64_t most = header.body_offset;
+  for (const Element& element : header.elements) {
+    std::uint64_t record = 0;
+    for (const Property& property : element.properties) {
+      const std::uint64_t item = scalar_bytes(property.type);
+      record = saturating_add(
+          record, property.is_list ? saturating_add(scalar_bytes(property.count_type),
+                                                    saturating_multiply(
+                                                        most_list_count(property.count_type), item))
+                                   : item);
+    }
+    most = saturating_add(most, saturating_multiply(element.count, record));
+  }
+  return most;
+}
+
 // PASS 1: HEADER ------------------------------------------------------------------------------
 
 class HeaderParser {
@@ -631,8 +674,19 @@ PlyMesh parse_ply(const void* data, std::size_t size, const std::string& name_fo
 }
 
 PlyMesh read_ply(const std::string& path) {
+  // The header is parsed from the file's first MiB before the rest is read, so that a file that
+  // is not a PLY (/dev/zero, or 100 GiB of something else) is refused from its start rather than
+  // read whole into memory. A header longer than that holds nothing a mesh needs.
+  constexpr std::size_t kMostHeaderBytes = std::size_t{1} << 20;
+  const StartCheck header_first{
+      kMostHeaderBytes, [&path](const unsigned char* start, std::size_t size) {
+        if (size == 0) throw Error(path, "empty file");
+        return most_file_bytes(
+            HeaderParser(reinterpret_cast<const char*>(start), size, path).parse());
+      }};
   ReadBuffer bytes;
-  read_file_bytes(path, bytes);
+  read_file_bytes(path, bytes, std::numeric_limits<std::uint64_t>::max(), FileKinds::any,
+                  header_first);
   return parse_ply(bytes.data(), bytes.size(), path);
 }
 

@@ -18,14 +18,15 @@ const RawFormat& volume_format(const RawFormat& format) {
 }  // namespace
 
 RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format)
-    : RawVolumeSource(path, volume_format(format), 0, format.depth) {
+    : RawVolumeSource(path, volume_format(format), 0, format.depth, nullptr) {
   file_.expect_size(std::uint64_t{format_.depth} * format_.slice_bytes(),
                     "a " + raw_format_text(format_) + " volume");
 }
 
 RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& format,
-                                 std::uint32_t first, std::uint32_t end)
-    : file_(path),
+                                 std::uint32_t first, std::uint32_t end,
+                                 const RawFile* same_file_as)
+    : file_(path, "a raw sample file", same_file_as),
       format_(format),
       slices_(file_, std::uint64_t{first} * format.slice_bytes(), format.slice_bytes(), end - first,
               kChunkBytes),
@@ -39,7 +40,8 @@ RawVolumeSource::RawVolumeSource(const std::string& path, const RawFormat& forma
 
 std::unique_ptr<SliceSource> RawVolumeSource::open_range(std::uint32_t first,
                                                          std::uint32_t end) const {
-  return std::unique_ptr<SliceSource>(new RawVolumeSource(file_.path(), format_, first, end));
+  return std::unique_ptr<SliceSource>(
+      new RawVolumeSource(file_.path(), format_, first, end, &file_));
 }
 
 bool RawVolumeSource::next_slice(SliceView* slice) {

@@ -43,9 +43,10 @@ class RawVolumeSource : public SliceSource, public RangeReadable, public CopiedS
   bool slices_are_copied() const override { return !file_.is_stream(); }
 
  private:
-  // Slices [first, end) of the volume file `path`, whose size the whole source checked.
+  // Slices [first, end) of the volume file `path`, whose size the whole source checked; with
+  // `same_file_as`, the whole source's file, which `path` must still name.
   RawVolumeSource(const std::string& path, const RawFormat& format, std::uint32_t first,
-                  std::uint32_t end);
+                  std::uint32_t end, const RawFile* same_file_as);
 
   RawFile file_;
   RawFormat format_;
