@@ -69,8 +69,9 @@ EngineOptions EngineChoice::options() const {
   EngineOptions result;
   if (method == "cubes") {
     if (engine != "fast" || surface != "merge-rules")
-      throw Error("--method cubes",
-                  "has its own table; --engine and --surface choose how marching voxels works");
+      throw UsageError(
+          "--method cubes",
+          "has its own table; --engine and --surface choose how marching voxels works");
     result.method = SurfaceMethod::cubes;
     return result;
   }

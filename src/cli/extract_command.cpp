@@ -408,11 +408,15 @@ void add_extract_command(CLI::App& app, ExtractRunner runner) {
                    "cgroup or ulimit -v limit, if lower)")
       ->check(CLI::Validator(
           [](std::string& text) {
-            return parse_memory_size(text) ? std::string()
-                                           : "'" + text +
-                                                 "' is not a memory size: give e.g. "
-                                                 "512K, 64M, 2G, 1.5G, a number of "
-                                                 "bytes, or none";
+            const std::optional<std::uint64_t> bytes = parse_memory_size(text);
+            // 0 stands for no budget inside; typed, it asked for no memory at all, and the run
+            // went ahead unlimited.
+            if (bytes == std::uint64_t{0} && text != "none")
+              return "'" + text + "' is no memory at all: give a size, or none for no limit";
+            return bytes ? std::string()
+                         : "'" + text +
+                               "' is not a memory size: give e.g. 512K, 64M, 2G, 1.5G, a number "
+                               "of bytes, or none";
           },
           "SIZE"));
   command->add_flag("--dry-run", args->dry_run,

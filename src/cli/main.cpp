@@ -3,8 +3,13 @@
 // on standard error: "mvox: error: SUBJECT: PROBLEM". An interrupt (SIGINT, SIGTERM, SIGHUP)
 // exits with 128 + the signal's number, 130 for SIGINT, and a reader that closes an output pipe
 // early ends mvox quietly, as SIGPIPE would (termination.h).
+#include <poll.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cstdio>
+#include <iostream>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -26,9 +31,25 @@ int job_failure(const std::exception& e, int exit_code) {
   return exit_code;
 }
 
-}  // namespace
+// What a command printed on standard output (--dry-run's plan, --help, --version) is flushed
+// and checked once, at the end: onto a full disk it was lost with exit 0. A reader that went
+// away ends mvox quietly, as for an output pipe.
+int checked_standard_output(int status) {
+  errno = 0;
+  std::cout.flush();  // synced with stdio: a failed write shows in ferror(stdout) and errno
+  const bool failed = std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout.good();
+  if (!failed || status != 0) return status;
+  // errno is EPIPE when the failed write was this flush's; an earlier flush may have failed
+  // instead, and then a pipe whose reader is gone shows as an error on its write end.
+  pollfd out{STDOUT_FILENO, 0, 0};
+  if (errno == EPIPE || (::poll(&out, 1, 0) == 1 && (out.revents & POLLERR)))
+    mvox::exit_for_broken_pipe();
+  mvox::print_message("error", "standard output: write failed" +
+                                   (errno != 0 ? ": " + mvox::errno_text(errno) : std::string()));
+  return 1;
+}
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   // First, before any file is opened: a closed standard descriptor must not be reused.
   mvox::secure_standard_descriptors();
   // Before any thread exists: every thread must inherit the blocked interrupt signals.
@@ -98,3 +119,7 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return checked_standard_output(run(argc, argv)); }

@@ -301,7 +301,8 @@ RunReport start_run_report(const SliceSource& source, const MeshJob& job) {
 void check_job_outputs(const MeshJob& job, std::uint32_t depth) {
   const bool want_mesh = !job.output.empty();
   if (!want_mesh && !job.picture.wanted())
-    throw Error(job.input_label, "nothing to write: give -o mesh.ply, --image picture.png or both");
+    throw UsageError(job.input_label,
+                     "nothing to write: give -o mesh.ply, --image picture.png or both");
   if (job.normals && !want_mesh) throw Error("--normals", "needs a mesh output (-o)");
   if (job.mesh.triangulate && !want_mesh) throw Error("--triangulate", "needs a mesh output (-o)");
   // No output may land on an input or on another output: checked before any is created.

@@ -2,6 +2,7 @@
 // a missing or unwritable folder, a full disk, the file size limit, and outputs that collide.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -73,12 +74,30 @@ TEST_F(BadInput, FileSizeLimit) {
   test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
 }
 
+// What a command prints on standard output (--dry-run's plan, --help) went onto a full disk with
+// exit 0: it is checked at the end. A reader that has gone ends mvox quietly, as for a mesh.
+TEST_F(BadInput, StandardOutputThatCannotBeWrittenFailsTheCommand) {
+  for (const std::string arguments : {"extract stack -t 128 -o mesh.ply --dry-run", "--help"}) {
+    SCOPED_TRACE(arguments);
+    const test::CommandResult full =
+        test::run_mvox(arguments + " > /dev/full; }", dir_.path(), "{");
+    EXPECT_EQ(full.exit_code, 1);
+    EXPECT_EQ(full.output.rfind("mvox: error: standard output: write failed", 0), 0u)
+        << full.output;
+    EXPECT_EQ(std::count(full.output.begin(), full.output.end(), '\n'), 1) << full.output;
+    // The reader exits before mvox writes (sleep): the write finds the pipe closed.
+    const test::CommandResult closed = test::run_mvox(
+        arguments + "; echo \"exit $?\" >&2) | true; }", dir_.path(), "{ (sleep 0.3;");
+    EXPECT_EQ(closed.output, "exit 141\n");
+  }
+}
+
 TEST_F(BadInput, OutputsThatCollide) {
   expect_refused("extract stack -t 128 -o previous.ply --stats previous.ply", "previous.ply",
                  "is both the mesh (-o previous.ply) and the report (--stats previous.ply)", 2);
   expect_refused("extract stack -t 128 -o previous.png --format ply --image previous.png",
                  "previous.png", "is both the mesh (-o previous.png) and the picture", 2);
-  expect_refused("extract stack -t 128 -q", "stack", "nothing to write");
+  expect_refused("extract stack -t 128 -q", "stack", "nothing to write", 2);
   // A phantom into a folder that holds slices would silently mix two stacks.
   expect_refused("phantom torus -o stack --size 12x10x3 -q", "stack", "already exists");
 }

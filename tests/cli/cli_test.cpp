@@ -185,7 +185,7 @@ TEST(Cli, MarchingCubesMethodWritesTrianglesWithInterpolatedVertices) {
   // Options that only marching voxels has are refused, not ignored.
   expect_one_line_error(
       run_mvox("extract stack -t 128 --method cubes --engine literal -o x.ply", dir.path()),
-      "--method cubes");
+      "--method cubes", 2);
   expect_one_line_error(run_mvox("extract stack -t 128 --method squares -o x.ply", dir.path()),
                         "--method", 2);
   EXPECT_EQ(dir.listing(), "cubes.json cubes.ply stack voxels.ply ");

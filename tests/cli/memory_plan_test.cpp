@@ -223,6 +223,10 @@ TEST_F(MemoryPlanCli, MaxMemoryRefusesUpFrontOrLetsTheRunGoOn) {
   EXPECT_EQ(none.exit_code, 0) << none.output;
   test::expect_refused(dir_.path(), kVolume + " -o mesh.ply --max-memory 12Q", "--max-memory",
                        "is not a memory size", 2);
+  // 0 is no limit inside; typed, it ran unlimited where it asked for nothing.
+  for (const char* zero : {"0", "0M", "0.0G"})
+    test::expect_refused(dir_.path(), kVolume + " -o mesh.ply --max-memory " + zero, "--max-memory",
+                         "is no memory at all: give a size, or none for no limit", 2);
 }
 
 // The default budget follows the address-space limit, as containers and ulimit set it.

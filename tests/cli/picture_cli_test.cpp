@@ -311,7 +311,7 @@ TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
   make_torus_stack(dir);
   expect_one_line_error(run_mvox("extract stack -t 128 --image out.xyz", dir.path()), "out.xyz");
   expect_one_line_error(run_mvox("extract stack -t 128 --image out", dir.path()), "out");
-  expect_one_line_error(run_mvox("extract stack -t 128", dir.path()), "nothing to write");
+  expect_one_line_error(run_mvox("extract stack -t 128", dir.path()), "nothing to write", 2);
   expect_one_line_error(run_mvox("extract stack -t 128 --image a.png --image-size 0x9", dir.path()),
                         "--image-size", 2);
   expect_one_line_error(run_mvox("extract stack -t 128 --image a.png --every 0", dir.path()),
