@@ -14,6 +14,7 @@
 #include "error.h"
 #include "message_line.h"
 #include "phantom_factory.h"
+#include "pipeline/termination.h"
 #include "simulated_scanner.h"
 #include "write/slice_image_writer.h"
 
@@ -30,12 +31,13 @@ struct PhantomArguments {
   bool quiet = false;
 };
 
-// Removes the folder and everything in it unless released (path cleared).
-struct TemporaryDirectory {
+// The stack's folder while it is written, recorded so that an interrupt removes it too
+// (termination.h): removed with everything in it unless published.
+struct StagingDirectory {
   std::filesystem::path path;
-  ~TemporaryDirectory() {
-    std::error_code ignored;
-    if (!path.empty()) std::filesystem::remove_all(path, ignored);
+  int id = 0;
+  ~StagingDirectory() {
+    if (id != 0) discard_output(id);
   }
 };
 
@@ -69,15 +71,21 @@ void run_phantom(const PhantomArguments& args) {
   const std::filesystem::path parent =
       target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
   std::string pattern = (parent / ("." + target.filename().string() + ".XXXXXX")).string();
-  if (!mkdtemp(pattern.data()))
+  StagingDirectory staging;
+  if (!create_output_temporary_directory(pattern.data(), args.directory, &staging.id))
     throw Error(args.directory, "cannot create directory: " + errno_text(errno));
-  TemporaryDirectory staging{pattern};
+  staging.path = pattern;
 
   SliceView slice;
   for (std::uint32_t z = 0; scanner.next_slice(&slice); ++z) {
     char name[64];
     std::snprintf(name, sizeof name, "%s_%04u.%s", args.name.c_str(), z, args.format.c_str());
-    write_slice_image((staging.path / name).string(), slice);
+    try {
+      write_slice_image((staging.path / name).string(), slice);
+    } catch (const Error& error) {
+      // Named as the user will look for it: the staging folder is gone once this unwinds.
+      throw Error((target / name).string(), error.problem());
+    }
   }
   // mkdtemp makes the folder 0700; the finished stack gets the usual 0777 & ~umask, as mkdir
   // would give it (umask can only be read by setting it).
@@ -85,9 +93,9 @@ void run_phantom(const PhantomArguments& args) {
   ::umask(mask);
   ::chmod(staging.path.c_str(), 0777 & ~mask);
   // rename() also replaces an empty directory left at the target.
-  if (std::rename(staging.path.c_str(), target.c_str()) != 0)
-    throw Error(args.directory, "cannot create directory: " + errno_text(errno));
-  staging.path.clear();
+  if (const int error = publish_output_temporary(staging.id, target.string()))
+    throw Error(args.directory, "cannot create directory: " + errno_text(error));
+  staging.id = 0;
   if (!args.quiet) {
     const double threshold = sim::sample_threshold(sim::default_density_threshold(args.name), scan);
     std::fprintf(

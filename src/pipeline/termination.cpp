@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <string>
 #include <system_error>
@@ -32,9 +33,21 @@ constexpr int kInterruptSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, 
 
 struct OutputRecord {
   int id = 0;
-  std::string target;     // as named in messages
-  std::string temporary;  // empty for direct outputs
+  std::string target;      // as named in messages
+  std::string temporary;   // empty for direct outputs
+  bool directory = false;  // the temporary is a folder, removed with what it holds
 };
+
+// Ordinary code on the interrupt thread too (termination.h): a folder's files can be removed.
+void delete_temporary(const OutputRecord& record) {
+  if (record.temporary.empty()) return;
+  if (!record.directory) {
+    ::unlink(record.temporary.c_str());
+    return;
+  }
+  std::error_code ignored;
+  std::filesystem::remove_all(record.temporary, ignored);
+}
 
 // Recursive so that an InterruptsDeferred scope can publish files, which lock again.
 struct Registry {
@@ -75,8 +88,7 @@ std::atomic<bool> interrupts_quiet{false};
   Registry& r = registry();
   // Held until _exit: no temporary can be created or published after this point.
   r.lock.lock();
-  for (const OutputRecord& record : r.outputs)
-    if (!record.temporary.empty()) ::unlink(record.temporary.c_str());
+  for (const OutputRecord& record : r.outputs) delete_temporary(record);
   const std::string& subject = r.outputs.empty() ? r.subject : r.outputs.front().target;
   // Over a progress line on a terminal, start from a clean line.
   std::string line = isatty(STDERR_FILENO) == 1 ? "\r\033[K" : "";
@@ -132,6 +144,20 @@ int create_output_temporary(char* name_template, const std::string& target, int*
   r.outputs.push_back(std::move(record));
   *id = r.outputs.back().id;
   return fd;
+}
+
+bool create_output_temporary_directory(char* name_template, const std::string& target, int* id) {
+  Registry& r = registry();
+  std::lock_guard<std::recursive_mutex> hold(r.lock);
+  if (::mkdtemp(name_template) == nullptr) return false;
+  OutputRecord record;
+  record.id = r.next_id++;
+  record.target = target;
+  record.temporary = name_template;
+  record.directory = true;
+  r.outputs.push_back(std::move(record));
+  *id = r.outputs.back().id;
+  return true;
 }
 
 int register_direct_output(const std::string& target) {
@@ -235,7 +261,7 @@ void discard_output(int id) {
   std::lock_guard<std::recursive_mutex> hold(r.lock);
   for (auto record = r.outputs.begin(); record != r.outputs.end(); ++record) {
     if (record->id != id) continue;
-    if (!record->temporary.empty()) ::unlink(record->temporary.c_str());
+    delete_temporary(*record);
     r.outputs.erase(record);
     return;
   }

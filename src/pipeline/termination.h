@@ -50,6 +50,12 @@ void install_termination_handling();
 // interrupt deletes it. Returns the descriptor, or -1 with errno set; *id gets the record.
 int create_output_temporary(char* name_template, const std::string& target, int* id);
 
+// A folder from `name_template` (mkdtemp), recorded as create_output_temporary records a file:
+// an interrupt, or discard_output(), removes it with everything in it; publish_output_temporary
+// renames it onto its target. For outputs that are folders of files (mvox phantom's stacks).
+// False with errno set when it cannot be made.
+bool create_output_temporary_directory(char* name_template, const std::string& target, int* id);
+
 // Records an output written directly (standard output, a device, a pipe): nothing to delete,
 // but an interrupt names it. Returns the record's id.
 int register_direct_output(const std::string& target);

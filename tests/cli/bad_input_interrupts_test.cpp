@@ -114,6 +114,28 @@ INSTANTIATE_TEST_SUITE_P(BadInput, Interrupt,
                            return std::string(signal_name(info.param));
                          });
 
+// mvox phantom writes its stack into a hidden folder and renames it into place at the end: an
+// interrupt left the folder and its slices behind, and named a slice in it.
+TEST_F(BadInput, AnInterruptedPhantomLeavesNoFolder) {
+  const auto before = test::tree_snapshot(dir_.path());
+  MvoxProcess mvox({"phantom", "blobs", "-o", "made", "--size", "256x256x20000", "-q"},
+                   dir_.path());
+  // Mid-run for sure: the staging folder holds a slice.
+  bool writing = false;
+  for (int wait = 0; wait < 2000 && !writing; ++wait) {
+    for (const auto& entry : fs::directory_iterator(dir_.path()))
+      if (entry.path().filename().string().rfind(".made.", 0) == 0 && !fs::is_empty(entry.path()))
+        writing = true;
+    if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(writing) << dir_.listing();
+  mvox.send(SIGTERM);
+  const MvoxProcess::Ending ending = mvox.finish();
+  EXPECT_EQ(ending.exit_code, 128 + SIGTERM);
+  EXPECT_EQ(ending.errors, "mvox: error: made: interrupted by SIGTERM\n");
+  test::expect_same_tree(before, test::tree_snapshot(dir_.path()));
+}
+
 // A job that fails mid-volume while the FIFO it reads from stays open and silent: the reading
 // thread is blocked in read(), and mvox must still end at once with its error (read
 // cancellation, src/read/read_cancellation.h), not wait for a writer that may never close.

@@ -100,6 +100,10 @@ TEST_F(BadInput, OutputsThatCollide) {
   expect_refused("extract stack -t 128 -q", "stack", "nothing to write", 2);
   // A phantom into a folder that holds slices would silently mix two stacks.
   expect_refused("phantom torus -o stack --size 12x10x3 -q", "stack", "already exists");
+  // A slice that cannot be written is named where the stack would have been, not in the hidden
+  // folder it is written into, which is gone once the run has failed.
+  test::expect_refused(dir_.path(), "phantom blobs -o made --size 256x256x4 -q",
+                       "made/blobs_0000.png", "write failed: File too large", 1, "ulimit -f 1;");
 }
 
 }  // namespace
