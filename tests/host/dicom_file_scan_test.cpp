@@ -132,6 +132,24 @@ TEST(DicomSeries, ElementsWithWrongOrUnknownVrsAreRefused) {
                "(RecognitionCode) does not name ACR-NEMA");
 }
 
+// A file of zeros reads as element (0000,0000) of length 0, again and again: a large one (a
+// preallocated or sparse file in a DICOM folder) was walked to its end, a terabyte in most of an
+// hour. A repeated tag ends the walk at the second element: named as malformed when the file
+// claims to be DICOM (.dcm), and left out as not DICOM otherwise, beside a series that reads.
+TEST(DicomSeries, AFileOfZerosIsToldFromItsSecondElement) {
+  ScratchDirectory dir;
+  DicomSliceSpec spec;
+  spec.stored = pattern(16, 12, 0);
+  test::write_dicom(dir / "image.dcm", spec);
+  write_bytes(dir / "zeros.dcm", std::string(4096, '\0'));
+  expect_error([&] { open_series(dir.path().string()); }, dir / "zeros.dcm",
+               "element (0000,0000) at byte 8 repeats the element before it");
+  fs::rename(dir / "zeros.dcm", dir / "zeros");
+  fs::resize_file(dir / "zeros", std::uintmax_t{1} << 40);  // a terabyte of holes
+  std::vector<std::string> notes;
+  EXPECT_EQ(open_series(dir.path().string(), &notes).info().depth, 1u);
+}
+
 // Random byte changes in files of every encoding: each is read or refused with an mvox::Error
 // naming it; none may crash the process (which would end this test binary). Fixed seed.
 TEST(DicomSeries, CorruptedBytesAreReadOrRefusedNeverACrash) {

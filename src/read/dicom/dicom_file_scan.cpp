@@ -346,6 +346,10 @@ class Walker {
   // to the end of the file (the top level).
   void elements(const Encoding& e, std::uint64_t end, int depth, bool undefined_item) {
     const bool top_level = depth == 0;
+    // A data set holds each tag once. A file of zeros is element (0000,0000) of length 0 over
+    // and over: walked to its end, a terabyte of it took most of an hour.
+    std::uint32_t previous_tag = 0;
+    bool first = true;
     for (;;) {
       if (end != kNoEnd && file_.position() == end) return;
       if (top_level && file_.left() == 0) return;
@@ -358,6 +362,9 @@ class Walker {
         return;
       }
       if ((h.tag >> 16) == 0xFFFE) fail(h, "is an item tag among data elements");
+      if (!first && h.tag == previous_tag) fail(h, "repeats the element before it");
+      previous_tag = h.tag;
+      first = false;
       if (top_level) scan_.last_tag = h.tag;
       if (h.tag == kPixelData) {
         // Nested pixel data (an icon in an Icon Image Sequence) is walked alike, not recorded.
