@@ -1,8 +1,8 @@
 // The mvox command line. Exit codes: 0 success, 1 a failure in the job (bad input file, write
 // error, ...), 2 a usage error (unknown option, missing argument). Every failure prints one line
-// on standard error: "mvox: error: SUBJECT: PROBLEM". An interrupt (SIGINT, SIGTERM, SIGHUP)
-// exits with 128 + the signal's number, 130 for SIGINT, and a reader that closes an output pipe
-// early ends mvox quietly, as SIGPIPE would (termination.h).
+// on standard error: "mvox: error: SUBJECT: PROBLEM". An interrupt (SIGINT, SIGTERM, SIGHUP,
+// SIGQUIT, SIGUSR1, SIGALRM, SIGXCPU) exits with 128 + the signal's number, 130 for SIGINT, and
+// a reader that closes an output pipe early ends mvox quietly, as SIGPIPE would (termination.h).
 #include <poll.h>
 #include <unistd.h>
 

@@ -45,12 +45,12 @@ sim::Grid parse_size(const std::string& text) {
   static const std::regex pattern(R"((\d{1,5})x(\d{1,5})x(\d{1,5}))");
   std::smatch match;
   if (!std::regex_match(text, match, pattern))
-    throw Error("--size", "'" + text + "' is not WxHxD, for example 64x48x32");
+    throw UsageError("--size", "'" + text + "' is not WxHxD, for example 64x48x32");
   const sim::Grid grid{static_cast<std::uint32_t>(std::stoul(match[1])),
                        static_cast<std::uint32_t>(std::stoul(match[2])),
                        static_cast<std::uint32_t>(std::stoul(match[3]))};
   if (grid.width == 0 || grid.height == 0 || grid.depth == 0)
-    throw Error("--size", "'" + text + "' has a zero dimension");
+    throw UsageError("--size", "'" + text + "' has a zero dimension");
   return grid;
 }
 

@@ -41,7 +41,7 @@ void run_render(const RenderArguments& args) {
       {args.mesh}, InputFiles::not_yet_opened);
   OutputFile file(options.image_path);  // fails now, not after reading a large mesh
 
-  set_interrupt_subject(args.mesh);  // an interrupt, or memory running out, names the mesh
+  set_interrupt_subject(args.mesh);  // memory running out names the mesh
   PlyMesh mesh = read_ply(args.mesh);
   glm::vec3 box_min, box_max;
   if (!face_bounds(mesh, &box_min, &box_max)) throw Error(args.mesh, "no faces to render");

@@ -303,8 +303,9 @@ void check_job_outputs(const MeshJob& job, std::uint32_t depth) {
   if (!want_mesh && !job.picture.wanted())
     throw UsageError(job.input_label,
                      "nothing to write: give -o mesh.ply, --image picture.png or both");
-  if (job.normals && !want_mesh) throw Error("--normals", "needs a mesh output (-o)");
-  if (job.mesh.triangulate && !want_mesh) throw Error("--triangulate", "needs a mesh output (-o)");
+  if (job.normals && !want_mesh) throw UsageError("--normals", "needs a mesh output (-o)");
+  if (job.mesh.triangulate && !want_mesh)
+    throw UsageError("--triangulate", "needs a mesh output (-o)");
   // No output may land on an input or on another output: checked before any is created.
   std::vector<OutputTarget> targets;
   if (want_mesh) targets.push_back({job.output, "-o", "the mesh"});

@@ -36,7 +36,7 @@ void read_file_bytes(const std::string& path, ReadBuffer& bytes, std::uint64_t m
   struct stat status {};
   const bool regular = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode);
   if (only_regular && !regular)
-    throw Error(path, "is not a regular file (a FIFO, device or socket now)");
+    throw Error(path, "is no longer a regular file");
   // One byte more than the size: the read that finds the end of the file needs room too.
   const std::uint64_t expected =
       std::min(regular ? static_cast<std::uint64_t>(status.st_size) + 1 : 65536, max_bytes);

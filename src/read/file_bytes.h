@@ -18,7 +18,7 @@ namespace mvox {
 // mvox::Error(path, "cannot open file: ...") or (path, "read failed: ...").
 //
 // `only_regular`: `path` must be a regular file, and is refused with
-// mvox::Error(path, "is not a regular file ...") otherwise, without waiting for a FIFO's writer.
+// mvox::Error(path, "is no longer a regular file") otherwise, without waiting for a FIFO's writer.
 // Slices are listed as regular files and read later, each at its turn: one replaced by a FIFO
 // meanwhile kept a run waiting in open() for a writer that never came.
 //

@@ -172,9 +172,10 @@ TEST(MeshFormatsCli, BadFormatChoicesAreUsageErrorsAndWriteNothing) {
   expect_one_line_error(run_mvox("demo --size 8 -o demo.vrml", dir.path()), "demo.vrml", 2);
   // A usage error: STL has no vertex normals.
   expect_one_line_error(run_mvox(extract + "-o mesh.stl --normals", dir.path()), "--normals", 2);
-  // Not a usage error but an impossible job, refused before reading, like --normals without -o.
+  // An option for a mesh with no mesh asked for, as --format is above, and --normals.
   expect_one_line_error(run_mvox(extract + "--image a.png --triangulate", dir.path()),
-                        "--triangulate");
+                        "--triangulate", 2);
+  expect_one_line_error(run_mvox(extract + "--image a.png --normals", dir.path()), "--normals", 2);
   EXPECT_EQ(dir.listing(), "stack ");
 }
 

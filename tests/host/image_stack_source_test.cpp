@@ -155,7 +155,7 @@ TEST(ImageStack, ASliceReplacedByAFifoAfterListingIsRefusedWithoutWaiting) {
   fs::remove(dir / "s2.png");
   ASSERT_EQ(::mkfifo((dir / "s2.png").c_str(), 0600), 0);
   const std::string message = error_of([&] { read_all<std::uint8_t>(*source); });
-  EXPECT_CONTAINS(message, dir / "s2.png: is not a regular file");
+  EXPECT_CONTAINS(message, dir / "s2.png: is no longer a regular file");
 }
 
 TEST(ImageStack, RefusesSliceOfAnotherBitDepth) {

@@ -403,6 +403,14 @@ TEST(PlyReader, IsRefusedFromItsStartWithoutReadingMoreThanItsHeaderAllows) {
   EXPECT_CONTAINS(error_of([&] { read_ply(at_most); }), "face 0: face with 0 vertices");
   write_bytes(at_most, header + std::string(most - header.size() + 1, '\0'));
   EXPECT_CONTAINS(error_of([&] { read_ply(at_most); }), "holds more than its header describes");
+  // A header is read from the first MiB: one longer says so, not that it has no end.
+  std::string comments;
+  while (comments.size() <= (std::size_t{1} << 20))
+    comments += "comment " + std::string(90, 'c') + "\n";
+  const std::string long_header = dir.file("long_header.ply");
+  write_bytes(long_header, "ply\nformat ascii 1.0\n" + comments + "element vertex 0\nend_header\n");
+  EXPECT_CONTAINS(error_of([&] { read_ply(long_header); }),
+                  "header has no end_header line in its first MiB");
 }
 
 }  // namespace

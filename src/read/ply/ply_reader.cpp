@@ -148,6 +148,8 @@ std::uint64_t most_file_bytes(const Header& header) {
 
 // PASS 1: HEADER ------------------------------------------------------------------------------
 
+constexpr const char* kNoEndHeader = "header has no end_header line";
+
 class HeaderParser {
  public:
   HeaderParser(const char* data, std::size_t size, const std::string& name)
@@ -160,7 +162,7 @@ class HeaderParser {
     }
     bool have_format = false;
     for (;;) {
-      if (!next_line(&line)) throw Error(name_, "header has no end_header line");
+      if (!next_line(&line)) throw Error(name_, kNoEndHeader);
       split(line);
       if (tokens_.empty()) fail("empty header line");
       const std::string_view keyword = tokens_[0];
@@ -681,8 +683,14 @@ PlyMesh read_ply(const std::string& path) {
   const StartCheck header_first{
       kMostHeaderBytes, [&path](const unsigned char* start, std::size_t size) {
         if (size == 0) throw Error(path, "empty file");
-        return most_file_bytes(
-            HeaderParser(reinterpret_cast<const char*>(start), size, path).parse());
+        try {
+          return most_file_bytes(
+              HeaderParser(reinterpret_cast<const char*>(start), size, path).parse());
+        } catch (const Error& error) {
+          // Cut by the window, not by the file's end: said so.
+          if (size < kMostHeaderBytes || error.problem() != kNoEndHeader) throw;
+          throw Error(path, std::string(kNoEndHeader) + " in its first MiB");
+        }
       }};
   ReadBuffer bytes;
   read_file_bytes(path, bytes, std::numeric_limits<std::uint64_t>::max(), FileKinds::any,
