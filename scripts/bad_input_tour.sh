@@ -330,6 +330,10 @@ for ends in "-3e38 3e38" "0 1.1e-44"; do
     "{ printf '$cube_ply'; for c in 0 1 2 3 4 5 6 7; do echo \$(( c & 1 ? 1 : 0 )) \$(( c & 2 ? 1 : 0 )) \$(( c & 4 ? 1 : 0 )) | sed 's/0/$1/g; s/1/$2/g'; done; printf '$cube_faces'; } > cube.ply" \
     "mvox render cube.ply -o cube.png --view 30,20"
 done
+tour "render an endless device (not read whole)" "" "mvox render /dev/zero -o cube.png"
+tour "render a PLY that holds more than its header says" \
+  "{ printf '$cube_ply' | sed 's/ascii/binary_little_endian/'; head -c 100000000 /dev/zero; } > big.ply" \
+  "mvox render big.ply -o cube.png"
 tour "threshold above u8" "" "mvox extract stack -t 300 $outputs"
 tour "threshold at u8's minimum" "" "mvox extract stack -t 0 $outputs"
 tour "no threshold" "" "mvox extract stack $outputs"
