@@ -18,6 +18,7 @@
 #include "read/raw/raw_input.h"
 #include "read/stored_volume_source.h"
 #include "read/tiff/tiff_input.h"
+#include "write/standard_descriptors.h"
 
 namespace mvox {
 
@@ -50,8 +51,9 @@ namespace {
 const char* stream_kind(const std::string& input) {
   struct stat status {};
   if (::stat(input.c_str(), &status) != 0) return nullptr;
-  // Standard input is "a pipe" to the user; a name in a directory, a FIFO.
-  if (S_ISFIFO(status.st_mode)) return input_name(input) == input ? "a FIFO" : "a pipe";
+  // Standard input, or /dev/fd/63 for <(zcat ...), is "a pipe" to the user; a name in a
+  // directory, a FIFO.
+  if (S_ISFIFO(status.st_mode)) return descriptor_named_by(input) ? "a pipe" : "a FIFO";
   if (S_ISCHR(status.st_mode) || S_ISBLK(status.st_mode)) return "a device";
   if (S_ISSOCK(status.st_mode)) return "a socket";
   return nullptr;

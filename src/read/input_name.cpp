@@ -8,7 +8,7 @@ namespace mvox {
 
 std::string input_name(const std::string& path) {
   const std::optional<int> fd = descriptor_named_by(path);
-  return fd ? descriptor_name(*fd) : path;
+  return fd == 0 ? descriptor_name(0) : path;
 }
 
 }  // namespace mvox
