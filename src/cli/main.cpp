@@ -108,11 +108,13 @@ int run(int argc, char** argv) {
     // Without this, the line would read "std::bad_alloc", naming neither input nor size.
     const std::size_t bytes = mvox::failed_allocation_bytes();
     return job_failure(
-        mvox::Error(mvox::interrupt_subject(),
-                    "out of memory" +
-                        (bytes > 0 ? ": an allocation of " + mvox::memory_text(bytes) + " failed"
-                                   : std::string()) +
-                        "; mvox extract --dry-run tells what a run needs"),
+        mvox::Error(
+            mvox::interrupt_subject(),
+            "out of memory" +
+                (bytes > 0 ? ": an allocation of " + mvox::memory_text(bytes) + " failed"
+                           : std::string()) +
+                // Only extract has a plan to show; render reads its mesh whole.
+                (named == "extract" ? "; mvox extract --dry-run tells what a run needs" : "")),
         1);
   } catch (const std::exception& e) {
     return job_failure(e, 1);

@@ -31,6 +31,7 @@ namespace {
 using test::expect_one_line_error;
 using test::run_mvox;
 using test::ScratchDirectory;
+using test::write_bytes;
 
 std::string file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -62,9 +63,9 @@ TEST(PictureCli, TheDemoPictureIsACutawayWithCaps) {
   // lighting gives almost nowhere (--cut 0 shows the closed skull).
   ScratchDirectory dir;
   ASSERT_EQ(run_mvox("demo --size 64 -q", dir.path()).exit_code, 0);
-  ASSERT_EQ(run_mvox("demo --size 64 -q --cut 0 -o whole.ply --image whole.png", dir.path())
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      run_mvox("demo --size 64 -q --cut 0 -o whole.ply --image whole.png", dir.path()).exit_code,
+      0);
   const std::uint8_t cap = Lighting().cap;
   auto cap_share = [cap](const cv::Mat& picture) {
     return static_cast<double>(cv::countNonZero(picture == cap)) /
@@ -156,9 +157,8 @@ TEST(PictureCli, RenderCutsAwayAndCapsOnlyMeshesItMayTakeAsClosed) {
   ASSERT_EQ(run_mvox("phantom sphere -o stack --size 30x30x30 -q", dir.path()).exit_code, 0);
   ASSERT_EQ(run_mvox("extract stack -t 128 -o sphere.ply -q", dir.path()).exit_code, 0);
   for (const char* options : {"", "--cut 0.5", "--cut 0.5 --cull"}) {
-    ASSERT_EQ(run_mvox(std::string("render sphere.ply -o p.png -q ") + options, dir.path())
-                  .exit_code,
-              0)
+    ASSERT_EQ(
+        run_mvox(std::string("render sphere.ply -o p.png -q ") + options, dir.path()).exit_code, 0)
         << options;
     const cv::Mat picture = read_gray(dir / "p.png");
     const int caps = cv::countNonZero(picture == Lighting().cap);
@@ -304,6 +304,24 @@ TEST(PictureCli, ShowWithADisplayThatNeverAnswersWarnsAndGoesOn) {
                                "\" accepted a connection but did not answer within 3 s; going "
                                "on without a window\n");
   EXPECT_GT(cv::countNonZero(read_gray(dir / "torus.png")), 100);
+}
+
+// render reads its mesh whole: one beyond the memory at hand is named, with the size it asked
+// for, and without extract's hint (it has no --dry-run).
+TEST(PictureCli, RenderOutOfMemoryNamesTheMeshAndTheSize) {
+  ScratchDirectory dir;
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 100000000\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
+  write_bytes(dir / "huge.ply", header);
+  std::filesystem::resize_file(dir / "huge.ply", header.size() + std::uintmax_t{1200000000});
+  const test::CommandResult result =
+      run_mvox("render huge.ply -o a.png", dir.path(), "ulimit -v 400000;");
+  expect_one_line_error(result, "huge.ply");
+  EXPECT_NE(result.output.find("huge.ply: out of memory: an allocation of 1.1 GiB failed\n"),
+            std::string::npos)
+      << result.output;
+  EXPECT_EQ(dir.listing(), "huge.ply ");
 }
 
 TEST(PictureCli, PictureErrorsAreOneLineAndLeaveNothing) {
