@@ -253,6 +253,12 @@ std::uint32_t slab_count(const VolumeInfo& volume, std::uint32_t requested) {
 
 namespace {
 
+// What one chunk of a worker reserves (SlabChunk::reserved_bytes) for these options.
+std::uint64_t chunk_bytes(const EngineOptions& engine, const SlabOptions& options) {
+  return SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon,
+                                   options.formatted_bytes_per_vertex);
+}
+
 unsigned most_chunks(const VolumeInfo& volume, const SlabOptions& options) {
   return options.most_chunks > 0
              ? std::max(options.most_chunks, kChunksPerWorker)
@@ -262,8 +268,7 @@ unsigned most_chunks(const VolumeInfo& volume, const SlabOptions& options) {
 }  // namespace
 
 std::uint64_t slab_chunk_bytes(const EngineOptions& engine, const SlabOptions& options) {
-  return options.threads * SlabChunk::reserved_bytes(engine, options.formatted_bytes_per_polygon,
-                                                     options.formatted_bytes_per_vertex);
+  return options.threads * chunk_bytes(engine, options);
 }
 
 std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions& engine,
@@ -278,9 +283,7 @@ std::uint64_t slab_pipeline_bytes(const VolumeInfo& volume, const EngineOptions&
                                               options.needs_window())} *
                  slice) +
       (options.needs_window() ? kSliceWindowDepth * slice : 0) +
-      most_chunks(volume, options) * SlabChunk::reserved_bytes(engine,
-                                                               options.formatted_bytes_per_polygon,
-                                                               options.formatted_bytes_per_vertex) +
+      most_chunks(volume, options) * chunk_bytes(engine, options) +
       // A worker's FaceFormatter is a MeshWriter with the batches of one; its
       // VertexTextFormatter has texts of floats of its own.
       (options.formatted_bytes_per_polygon > 0 ? kMeshWriterBatchBytes : 0) +

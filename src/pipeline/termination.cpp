@@ -132,17 +132,28 @@ void install_termination_handling() {
   });
 }
 
+namespace {
+
+// Records a temporary just created, under the registry's lock; returns its id.
+int record_temporary(Registry& r, const std::string& target, const char* temporary,
+                     bool directory) {
+  OutputRecord record;
+  record.id = r.next_id++;
+  record.target = target;
+  record.temporary = temporary;
+  record.directory = directory;
+  r.outputs.push_back(std::move(record));
+  return r.outputs.back().id;
+}
+
+}  // namespace
+
 int create_output_temporary(char* name_template, const std::string& target, int* id) {
   Registry& r = registry();
   std::lock_guard<std::recursive_mutex> hold(r.lock);
   const int fd = make_temporary(name_template);
   if (fd < 0) return -1;
-  OutputRecord record;
-  record.id = r.next_id++;
-  record.target = target;
-  record.temporary = name_template;
-  r.outputs.push_back(std::move(record));
-  *id = r.outputs.back().id;
+  *id = record_temporary(r, target, name_template, false);
   return fd;
 }
 
@@ -150,13 +161,7 @@ bool create_output_temporary_directory(char* name_template, const std::string& t
   Registry& r = registry();
   std::lock_guard<std::recursive_mutex> hold(r.lock);
   if (::mkdtemp(name_template) == nullptr) return false;
-  OutputRecord record;
-  record.id = r.next_id++;
-  record.target = target;
-  record.temporary = name_template;
-  record.directory = true;
-  r.outputs.push_back(std::move(record));
-  *id = r.outputs.back().id;
+  *id = record_temporary(r, target, name_template, true);
   return true;
 }
 

@@ -134,12 +134,11 @@ std::uint64_t most_file_bytes(const Header& header) {
   for (const Element& element : header.elements) {
     std::uint64_t record = 0;
     for (const Property& property : element.properties) {
-      const std::uint64_t item = scalar_bytes(property.type);
-      record = saturating_add(
-          record, property.is_list ? saturating_add(scalar_bytes(property.count_type),
-                                                    saturating_multiply(
-                                                        most_list_count(property.count_type), item))
-                                   : item);
+      std::uint64_t bytes = scalar_bytes(property.type);
+      if (property.is_list)
+        bytes = saturating_add(scalar_bytes(property.count_type),
+                               saturating_multiply(most_list_count(property.count_type), bytes));
+      record = saturating_add(record, bytes);
     }
     most = saturating_add(most, saturating_multiply(element.count, record));
   }
