@@ -233,7 +233,7 @@ const RangeReadable* own_range_reader(const SliceSource& source) {
 unsigned most_chunks_per_worker(const VolumeInfo& volume, std::uint32_t slab_slices) {
   const std::uint64_t voxels = std::uint64_t{volume.width} * volume.height * slab_slices;
   const std::uint64_t chunks = (voxels + SlabRecorder::kChunkBytes - 1) / SlabRecorder::kChunkBytes;
-  return static_cast<unsigned>(std::clamp<std::uint64_t>(chunks, kChunksPerWorker, kMostChunks));
+  return static_cast<unsigned>(std::clamp<std::uint64_t>(chunks, kFewestMostChunks, kMostChunks));
 }
 
 std::uint32_t slab_buffer_slices(std::uint32_t slab_slices, bool normals) {

@@ -75,9 +75,18 @@ const RangeReadable* own_range_reader(const SliceSource& source);
 // to wait for the turn before it could start its next slab; with four it seldom does.
 constexpr unsigned kChunksPerWorker = 4;
 
+// The fewest chunks a worker may grow to. Writing a file is slower than extracting: the worker
+// whose turn it is writes its slab into the file as it extracts it, and the worker ahead needs
+// room for the slab it has recorded and most of its next one, or it waits, and the two take
+// turns for the rest of the run. With four, two threads took raw 256x256x1024 to PLY in 42-46
+// ms (medians of 30 runs), with six in 38-39 ms, and their peak memory went from 13.3 to 15.0
+// MiB, within two one-thread runs (8.0 MiB each); eight gained nothing more (38-40 ms, 16.2
+// MiB). In memory, where writing costs little, a worker seldom takes a fifth.
+constexpr unsigned kFewestMostChunks = 6;
+
 // The chunks a worker may grow to, for slabs of `slab_slices` slices of `volume`: room for
 // about one byte of recorded output per voxel of its slab (a chunk holds 512 KiB and reserves
-// up to about 1.5 MiB, SlabChunk::reserved_bytes), at least kChunksPerWorker and at most
+// up to about 1.5 MiB, SlabChunk::reserved_bytes), at least kFewestMostChunks and at most
 // kMostChunks. Large slices make slabs of 8 slices (default_slab_slices) whose output does not
 // fit four chunks: at 1024x1024 a slab emits about 5 MB, and a worker ahead that waits for free
 // chunks takes turns with the other instead of working beside it. A worker takes a chunk more
