@@ -78,10 +78,11 @@ constexpr unsigned kChunksPerWorker = 4;
 // The fewest chunks a worker may grow to. Writing a file is slower than extracting: the worker
 // whose turn it is writes its slab into the file as it extracts it, and the worker ahead needs
 // room for the slab it has recorded and most of its next one, or it waits, and the two take
-// turns for the rest of the run. With four, two threads took raw 256x256x1024 to PLY in 42-46
-// ms (medians of 30 runs), with six in 38-39 ms, and their peak memory went from 13.3 to 15.0
-// MiB, within two one-thread runs (8.0 MiB each); eight gained nothing more (38-40 ms, 16.2
-// MiB). In memory, where writing costs little, a worker seldom takes a fifth.
+// turns for the rest of the run. Two threads, raw 256x256x1024 to PLY, medians of 15 rounds:
+// 37.4 ms with four, a third of the rounds at 43-51 ms; 36.0 ms with six, every round but one
+// at 36-38 ms. Their peak memory went from 13.5 to 15.9-16.0 MiB at 4,096 slices, as much as
+// two one-thread runs (7.8-8.0 MiB each); eight gained no more speed for 16.2 MiB
+// (docs/scaling.md). In memory, where writing costs little, a worker seldom takes a fifth.
 constexpr unsigned kFewestMostChunks = 6;
 
 // The chunks a worker may grow to, for slabs of `slab_slices` slices of `volume`: room for
