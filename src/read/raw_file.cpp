@@ -15,11 +15,15 @@
 
 namespace mvox {
 
-RawFile::RawFile(const std::string& path, const char* kind, const RawFile* same_file_as)
+RawFile::RawFile(const std::string& path, const char* kind, const RawFile* same_file_as,
+                 FileKinds kinds)
     : path_(path), name_(input_name(path)) {
   // Opening a FIFO waits for its writer: wanted for a volume piped in, never when the file is
-  // opened again for a slab (it was a file then, and a FIFO now has no writer coming).
-  descriptor_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (same_file_as ? O_NONBLOCK : 0));
+  // opened again for a slab, or opened at its turn after it was listed (it was a file then,
+  // and a FIFO now has no writer coming).
+  const bool only_regular = kinds == FileKinds::only_regular;
+  const bool no_wait = same_file_as || only_regular;
+  descriptor_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (no_wait ? O_NONBLOCK : 0));
   if (descriptor_ < 0) throw Error(name_, "cannot open: " + errno_text(errno));
   struct stat status {};
   if (::fstat(descriptor_, &status) != 0) {
@@ -33,7 +37,11 @@ RawFile::RawFile(const std::string& path, const char* kind, const RawFile* same_
     ::close(descriptor_);
     throw Error(name_, "was replaced by another file while mvox read it; nothing was written");
   }
-  if (same_file_as) ::fcntl(descriptor_, F_SETFL, ::fcntl(descriptor_, F_GETFL) & ~O_NONBLOCK);
+  if (only_regular && !S_ISREG(status.st_mode)) {
+    ::close(descriptor_);
+    throw Error(name_, "is no longer a regular file");
+  }
+  if (no_wait) ::fcntl(descriptor_, F_SETFL, ::fcntl(descriptor_, F_GETFL) & ~O_NONBLOCK);
   if (S_ISDIR(status.st_mode)) {
     ::close(descriptor_);
     throw Error(name_, std::string("is a directory, expected ") + kind);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "read/file_bytes.h"
 #include "read/read_buffer.h"
 
 namespace mvox {
@@ -20,9 +21,11 @@ class RawFile {
   // `kind` names what the file should be, for the refusal of a directory. `same_file_as`: the
   // file opened again, by the same path, for a reader of its own (a slab's): refused unless the
   // path still names that file, so that a run never mixes two files, nor waits for the writer
-  // of a FIFO put in the file's place.
+  // of a FIFO put in the file's place. `kinds` only_regular: a file listed as a regular file
+  // and opened at its turn (a raw slice, a TIFF file of a stack), refused with "is no longer a
+  // regular file" when it is not one now, without waiting for a FIFO's writer (file_bytes.h).
   explicit RawFile(const std::string& path, const char* kind = "a raw sample file",
-                   const RawFile* same_file_as = nullptr);
+                   const RawFile* same_file_as = nullptr, FileKinds kinds = FileKinds::any);
   ~RawFile();
   RawFile(const RawFile&) = delete;
   RawFile& operator=(const RawFile&) = delete;

@@ -1,10 +1,13 @@
 #include "read/dicom/dicom_file_scan.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <vector>
 
 #include "error.h"
@@ -42,14 +45,30 @@ struct Malformed {
 // skip past the window (over pixel data) makes the next read fetch another.
 class FileBytes {
  public:
-  explicit FileBytes(const std::string& path) : file_(std::fopen(path.c_str(), "rb")) {
-    if (!file_) throw Error(path, "cannot open file: " + errno_text(errno));
-    std::error_code error;
-    size_ = std::filesystem::file_size(path, error);
-    if (error) {
-      std::fclose(file_);
-      throw Error(path, "cannot read file size: " + error.message());
+  // Files are listed as regular files and read later (a series' slices, each at its turn):
+  // one replaced by a FIFO meanwhile is refused rather than waited for (O_NONBLOCK), as image
+  // stacks refuse theirs (file_bytes.h).
+  explicit FileBytes(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) throw Error(path, "cannot open file: " + errno_text(errno));
+    struct stat status {};
+    if (::fstat(fd, &status) != 0) {
+      const int error_number = errno;
+      ::close(fd);
+      throw Error(path, "cannot read file size: " + errno_text(error_number));
     }
+    if (!S_ISREG(status.st_mode)) {
+      ::close(fd);
+      throw Error(path, "is no longer a regular file");
+    }
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    file_ = ::fdopen(fd, "rb");
+    if (!file_) {
+      const int error_number = errno;
+      ::close(fd);
+      throw Error(path, "cannot open file: " + errno_text(error_number));
+    }
+    size_ = static_cast<std::uint64_t>(status.st_size);
   }
   ~FileBytes() { std::fclose(file_); }
   FileBytes(const FileBytes&) = delete;
@@ -90,7 +109,7 @@ class FileBytes {
     return window_bytes_ > 0;
   }
 
-  std::FILE* file_;
+  std::FILE* file_ = nullptr;
   std::uint64_t size_ = 0;
   std::uint64_t position_ = 0;
   std::vector<unsigned char> window_ = std::vector<unsigned char>(64 * 1024);

@@ -48,7 +48,7 @@ std::unique_ptr<SliceSource> RawSlicesSource::open_range(std::uint32_t first,
 
 bool RawSlicesSource::next_slice(SliceView* slice) {
   if (next_index_ >= std::min(files().size(), end_index_)) return false;
-  RawFile file(files()[next_index_]);
+  RawFile file(files()[next_index_], "a raw sample file", nullptr, FileKinds::only_regular);
   // Checked again at read time: the file may have changed since the constructor looked.
   file.expect_size(format_.slice_bytes(), "one " + raw_format_text(format_) + " slice");
   if (buffer_.empty()) resize_buffer(buffer_, format_.slice_bytes(), file.name(), "a slice");

@@ -170,7 +170,7 @@ std::uint64_t chunk_count(const TiffDirectory& directory) {
 }  // namespace
 
 TiffDirectoryReader::TiffDirectoryReader(const std::string& path) : path_(path) {
-  file_ = std::make_unique<RawFile>(path, "a TIFF file");
+  file_ = std::make_unique<RawFile>(path, "a TIFF file", nullptr, FileKinds::only_regular);
   if (file_->is_stream()) {
     throw Error(path_, "cannot read a TIFF from a pipe: its directories may be anywhere in it");
   }
