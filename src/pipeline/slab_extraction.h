@@ -75,14 +75,16 @@ const RangeReadable* own_range_reader(const SliceSource& source);
 // to wait for the turn before it could start its next slab; with four it seldom does.
 constexpr unsigned kChunksPerWorker = 4;
 
-// The fewest chunks a worker may grow to. Writing a file is slower than extracting: the worker
-// whose turn it is writes its slab into the file as it extracts it, and the worker ahead needs
-// room for the slab it has recorded and most of its next one, or it waits, and the two take
-// turns for the rest of the run. Two threads, raw 256x256x1024 to PLY, medians of 15 rounds:
-// 37.4 ms with four, a third of the rounds at 43-51 ms; 36.0 ms with six, every round but one
-// at 36-38 ms. Their peak memory went from 13.5 to 15.9-16.0 MiB at 4,096 slices, as much as
-// two one-thread runs (7.8-8.0 MiB each); eight gained no more speed for 16.2 MiB
-// (docs/scaling.md). In memory, where writing costs little, a worker seldom takes a fifth.
+// The fewest chunks a worker may grow to (fewer, never below kChunksPerWorker, only when a
+// memory budget leaves less room: mesh_job.cpp). Writing a file is slower than extracting: the
+// worker whose turn it is writes its slab into the file as it extracts it, and the worker ahead
+// needs room for the slab it has recorded and the next one (each slab starts a chunk of its
+// own), or it waits, and the two take turns for the rest of the run. Two threads, raw
+// 256x256x1024 to PLY, medians of 15 rounds: 37.4 ms with four, six of the rounds at 43-51 ms;
+// 36.0 ms with six, every round but one at 36-38 ms. Their peak memory went from 13.5 to 15.9-16.0
+// MiB at 4,096 slices, as much as two one-thread runs (7.8-8.0 MiB each); eight gained no more
+// speed for 16.2 MiB (docs/scaling.md). In memory, where writing costs little, a worker seldom
+// takes a fifth.
 constexpr unsigned kFewestMostChunks = 6;
 
 // The chunks a worker may grow to, for slabs of `slab_slices` slices of `volume`: room for

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "read/file_kinds.h"
 #include "read/read_buffer.h"
 
 namespace mvox {
@@ -28,7 +29,6 @@ namespace mvox {
 // returns the most bytes the whole file can hold by what its start says (a binary header's
 // element counts), or the largest uint64 when that is not known: a file holding more is refused
 // with mvox::Error(path, "holds more than its header describes ...") before it is read.
-enum class FileKinds { any, only_regular };
 struct StartCheck {
   std::size_t bytes = 0;
   std::function<std::uint64_t(const unsigned char* start, std::size_t size)> check;

@@ -41,7 +41,15 @@ RawFile::RawFile(const std::string& path, const char* kind, const RawFile* same_
     ::close(descriptor_);
     throw Error(name_, "is no longer a regular file");
   }
-  if (no_wait) ::fcntl(descriptor_, F_SETFL, ::fcntl(descriptor_, F_GETFL) & ~O_NONBLOCK);
+  // O_NONBLOCK changes nothing for a regular file's reads; anything else reads waiting again.
+  if (no_wait && !S_ISREG(status.st_mode)) {
+    const int flags = ::fcntl(descriptor_, F_GETFL);
+    if (flags < 0 || ::fcntl(descriptor_, F_SETFL, flags & ~O_NONBLOCK) != 0) {
+      const int error_number = errno;
+      ::close(descriptor_);
+      throw Error(name_, "cannot open: " + errno_text(error_number));
+    }
+  }
   if (S_ISDIR(status.st_mode)) {
     ::close(descriptor_);
     throw Error(name_, std::string("is a directory, expected ") + kind);

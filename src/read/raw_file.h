@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "read/file_bytes.h"
+#include "read/file_kinds.h"
 #include "read/read_buffer.h"
 
 namespace mvox {

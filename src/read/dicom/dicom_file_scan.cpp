@@ -61,7 +61,7 @@ class FileBytes {
       ::close(fd);
       throw Error(path, "is no longer a regular file");
     }
-    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    // Regular: O_NONBLOCK changes nothing for its reads.
     file_ = ::fdopen(fd, "rb");
     if (!file_) {
       const int error_number = errno;
@@ -508,12 +508,15 @@ std::string dicom_tag_text(std::uint32_t tag) {
 }
 
 bool has_dicom_preamble(const std::string& path) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (!file) return false;
+  // Not waiting for a FIFO's writer: only a regular file is looked at (FileBytes).
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return false;
+  struct stat status {};
   char bytes[132];
-  const bool found = std::fread(bytes, 1, sizeof bytes, file) == sizeof bytes &&
+  const bool found = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode) &&
+                     ::pread(fd, bytes, sizeof bytes, 0) == static_cast<ssize_t>(sizeof bytes) &&
                      std::memcmp(bytes + 128, "DICM", 4) == 0;
-  std::fclose(file);
+  ::close(fd);
   return found;
 }
 

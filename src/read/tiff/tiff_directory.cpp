@@ -170,10 +170,8 @@ std::uint64_t chunk_count(const TiffDirectory& directory) {
 }  // namespace
 
 TiffDirectoryReader::TiffDirectoryReader(const std::string& path) : path_(path) {
+  // A regular file only: a TIFF's directories may be anywhere in it, which a pipe cannot give.
   file_ = std::make_unique<RawFile>(path, "a TIFF file", nullptr, FileKinds::only_regular);
-  if (file_->is_stream()) {
-    throw Error(path_, "cannot read a TIFF from a pipe: its directories may be anywhere in it");
-  }
   file_bytes_ = file_->size_bytes();
   const std::string not_tiff = "cannot read as TIFF: ";
   unsigned char header[16] = {};
