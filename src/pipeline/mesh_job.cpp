@@ -182,10 +182,10 @@ MemoryPlan plan_job_memory(const SliceSource& source, const MeshJob& job,
   MemoryPlan plan;
   plan.process_bytes = current_resident_bytes();
   const unsigned threads = slab_threads(source, job);
-  SlabOptions slabs;
   std::size_t slab_item = 0;
   std::uint64_t one_more = 0;  // one chunk more on every worker
   if (threads > 1) {
+    SlabOptions slabs;
     slabs.threads = threads;
     slabs.slab_slices = job.slab_slices;
     slabs.normals = job.normals;

@@ -56,29 +56,29 @@ SlabWriteTurns::SlabWriteTurns(MeshWriter* mesh, std::uint32_t slabs, unsigned w
     pool.most = std::max(most_chunks, kChunksPerWorker);
     pool.storage.reserve(pool.most);  // growing then allocates only the chunk
     pool.free.reserve(pool.most);
-    for (unsigned c = 0; c < kChunksPerWorker; ++c) {
-      pool.storage.push_back(std::make_unique<SlabChunk>());
-      pool.storage.back()->reserve(engine, formatted_bytes_per_polygon, formatted_bytes_per_vertex);
-      pool.free.push_back(pool.storage.back().get());
-    }
+    for (unsigned c = 0; c < kChunksPerWorker; ++c) pool.free.push_back(add_chunk(pool));
     handovers_.push_back(std::make_unique<WorkerHandover>(*this, w));
   }
+}
+
+SlabChunk* SlabWriteTurns::add_chunk(Pool& pool) {
+  auto chunk = std::make_unique<SlabChunk>();
+  chunk->reserve(engine_, formatted_bytes_per_polygon_, formatted_bytes_per_vertex_);
+  pool.storage.push_back(std::move(chunk));
+  return pool.storage.back().get();
 }
 
 SlabChunk* SlabWriteTurns::grow(unsigned w) {
   Pool& pool = pools_[w];
   if (pool.storage.size() >= pool.most) return nullptr;
   try {
-    auto chunk = std::make_unique<SlabChunk>();
-    chunk->reserve(engine_, formatted_bytes_per_polygon_, formatted_bytes_per_vertex_);
-    pool.storage.push_back(std::move(chunk));
+    return add_chunk(pool);
   } catch (const std::bad_alloc&) {
     // It waits for its turn instead, as with all its chunks taken, and tries no more: a later
     // failure would only overwrite the size an out-of-memory message would name.
     pool.most = static_cast<unsigned>(pool.storage.size());
     return nullptr;
   }
-  return pool.storage.back().get();
 }
 
 SlabWriteTurns::~SlabWriteTurns() = default;

@@ -15,9 +15,8 @@
 // that put the writing unevenly on the workers, and a slab's chunks were read on the other core.)
 //
 // Each worker starts with kChunksPerWorker chunks. A worker ahead of the writer whose chunks
-// are all full takes one more, up to `most_chunks` (most_chunks_per_worker: about a slab's
-// output); past that, or when memory for one more cannot be had, it waits until its turn comes,
-// then writes them itself.
+// are all full takes one more, up to `most_chunks` (most_chunks_per_worker); past that, or when
+// memory for one more cannot be had, it waits until its turn comes, then writes them itself.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -79,6 +78,8 @@ class SlabWriteTurns {
   class WorkerHandover;
 
   SlabChunk* take(unsigned w);
+  // A new chunk, reserved (SlabChunk::reserve) and kept in `pool`; throws bad_alloc.
+  SlabChunk* add_chunk(Pool& pool);
   // A new chunk for worker w while it holds fewer than its most (Pool::most), or null.
   SlabChunk* grow(unsigned w);
   void full(unsigned w, SlabChunk* chunk);
